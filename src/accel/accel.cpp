@@ -1,0 +1,96 @@
+#include "accel/accel.h"
+
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+
+#include <limits>
+#include <stdexcept>
+
+namespace symphong {
+
+namespace {
+
+void onEmbreeError(void*, RTCError code, const char* message) {
+    // Embree calls this on its own threads; we cannot throw through it, so report and abort the query.
+    fmt::print(stderr, "symphong: Embree error {}: {}\n", static_cast<int>(code), message ? message : "");
+}
+
+}  // namespace
+
+Accel::Accel(const Scene& scene) {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error(fmt::format("cannot create the Embree device (error {})", static_cast<int>(rtcGetDeviceError(nullptr))));
+    rtcSetDeviceErrorFunction(device_, onEmbreeError, nullptr);
+    scene_ = rtcNewScene(device_);
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), scene.positions.size()));
+    for (std::size_t i = 0; i < scene.positions.size(); ++i)
+        for (int c = 0; c < 3; ++c) verts[3 * i + c] = static_cast<float>(scene.positions[i][c]);
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), scene.triangles.size()));
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i)
+        for (int c = 0; c < 3; ++c) idx[3 * i + c] = scene.triangles[i].v[c];
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(scene_);
+    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw std::runtime_error("Embree failed to build the scene");
+}
+
+Accel::~Accel() {
+    if (scene_) rtcReleaseScene(scene_);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, Hit& hit) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = static_cast<float>(o.x);
+    rh.ray.org_y = static_cast<float>(o.y);
+    rh.ray.org_z = static_cast<float>(o.z);
+    rh.ray.dir_x = static_cast<float>(d.x);
+    rh.ray.dir_y = static_cast<float>(d.y);
+    rh.ray.dir_z = static_cast<float>(d.z);
+    rh.ray.tnear = static_cast<float>(tnear);
+    rh.ray.tfar = tfar == std::numeric_limits<double>::infinity() ? std::numeric_limits<float>::infinity() : static_cast<float>(tfar);
+    rh.ray.time = 0;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    hit.t = rh.ray.tfar;
+    hit.prim = rh.hit.primID;
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    return true;
+}
+
+bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay ray;
+    ray.org_x = static_cast<float>(o.x);
+    ray.org_y = static_cast<float>(o.y);
+    ray.org_z = static_cast<float>(o.z);
+    ray.dir_x = static_cast<float>(d.x);
+    ray.dir_y = static_cast<float>(d.y);
+    ray.dir_z = static_cast<float>(d.z);
+    ray.tnear = static_cast<float>(tnear);
+    ray.tfar = static_cast<float>(tfar);
+    ray.time = 0;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    rtcOccluded1(scene_, &ctx, &ray);
+    return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+}  // namespace symphong

@@ -1,0 +1,57 @@
+// estimators/ — the reflected-radiance estimators: given a shading point (the outgoing direction and
+// its Phong material, in the local frame), each returns one or several weighted directions whose
+// weighted sum of incoming radiance estimates  L_r(wo) = integral f(wo,wi) L_in(wi) cos(theta_i) dwi.
+// The path tracer (render/) is written against this interface only, so strategies can be compared with
+// everything else held fixed. Estimators own no geometry and trace no rays.
+#pragma once
+
+#include "materials/phong.h"
+#include "math/vec3.h"
+#include "sampling/rng.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace symphong {
+
+struct ShadingContext {
+    Vec3 wo;                           ///< outgoing direction, local frame (wo.z > 0)
+    const PhongMaterial* material = nullptr;
+    int depth = 0;                     ///< 0 at the first surface seen from the camera
+    std::uint32_t sampleIndex = 0;     ///< index of the camera sample within its pixel
+    std::uint32_t sampleCount = 1;     ///< camera samples per pixel
+};
+
+struct DirectionSample {
+    Vec3 wi;        ///< incoming-light direction, local frame
+    Color weight;   ///< f(wo,wi) cos(theta_i) / (K p(wi)) for the K directions of one call: L_r ~= sum weight * L_in
+    double misPdf;  ///< K p(wi): the density of the call's direction set, as multiple importance sampling needs it
+};
+
+class Estimator {
+public:
+    virtual ~Estimator() = default;
+
+    virtual std::string_view name() const = 0;
+
+    /// Appends this strategy's directions for one shading point to `out` (which it does not clear).
+    /// A direction below the surface may be omitted: it carries zero weight.
+    virtual void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const = 0;
+
+    /// The misPdf that sample() would attach to direction wi at this point (0 where it never samples).
+    virtual double misPdf(const ShadingContext& ctx, const Vec3& wi) const = 0;
+};
+
+/// Names accepted by makeEstimator, in the order --help lists them.
+const std::vector<std::string>& estimatorNames();
+
+/// One line per estimator for --help.
+std::string estimatorHelp();
+
+/// Creates an estimator by name; throws std::invalid_argument listing the valid names otherwise.
+std::unique_ptr<Estimator> makeEstimator(std::string_view name);
+
+}  // namespace symphong

@@ -1,0 +1,48 @@
+// materials/ — surface reflectance. Owns the normalised modified Phong BRDF (Lafortune and Willems
+// 1994; the paper's erratum 1), its exact directional albedo, and the rules that keep a material
+// physically plausible. Everything is expressed in the local shading frame where the normal is +Z.
+#pragma once
+
+#include "math/vec3.h"
+
+#include <string>
+
+namespace symphong {
+
+struct PhongMaterial {
+    std::string name = "default";
+    Color rhoD{0.7};       ///< diffuse albedo rho_d (the reflected fraction of the diffuse lobe)
+    Color rhoS{0.0};       ///< specular albedo rho_s (at normal incidence, before the horizon cuts the lobe)
+    double exponent = 1;   ///< Phong exponent n >= 0
+    Color emission{0.0};   ///< emitted radiance Le on the front side (counter-clockwise winding)
+
+    bool isEmissive() const { return !isBlack(emission); }
+    bool hasSpecular() const { return !isBlack(rhoS); }
+};
+
+/// Normalised modified Phong BRDF, wo and wi in the local frame (normal +Z):
+///   f(wo, wi) = rho_d / pi + rho_s (n+2)/(2 pi) cos^n(alpha),  cos(alpha) = max(0, r . wi),
+/// r = reflect(wo) the mirror direction. Zero when wo or wi is below the surface. Reciprocal because
+/// reflect(wo) . wi = wo . reflect(wi).
+Color evalPhong(const PhongMaterial& m, const Vec3& wo, const Vec3& wi);
+
+/// The specular lobe's cosine of alpha for a pair of local directions: (2 wo.z Z - wo) . wi, clamped at 0.
+inline double phongCosAlpha(const Vec3& wo, const Vec3& wi) {
+    return std::max(0.0, dot(Vec3(-wo.x, -wo.y, wo.z), wi));
+}
+
+/// I(n, theta) = integral over the hemisphere of cos^n(alpha) cos(theta') dw', where the lobe axis makes
+/// the angle theta with the normal. Equals 2 pi / (n+2) at theta = 0; smaller once the horizon cuts the
+/// lobe. Computed by adaptive Simpson quadrature to a relative error of about 1e-10 (see phong.cpp).
+double phongLobeCosineIntegral(double n, double theta);
+
+/// Directional albedo of the material seen from wo (local), i.e. the reflected radiance under a
+/// constant incoming radiance L = 1:  rho_d + rho_s (n+2)/(2 pi) I(n, theta_o).
+Color phongDirectionalAlbedo(const PhongMaterial& m, const Vec3& wo);
+
+/// Checks a material's numbers. Throws std::invalid_argument naming the offending value when a number is
+/// not finite or negative; scales rho_d and rho_s down per channel so that rho_d + rho_s <= 1 and
+/// returns true when it had to (the caller warns).
+bool validateAndClampPhong(PhongMaterial& m);
+
+}  // namespace symphong

@@ -1,0 +1,169 @@
+#include "render/path_tracer.h"
+
+#include "math/frame.h"
+#include "sampling/warp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace symphong {
+
+namespace {
+
+std::vector<double> triangleAreas(const Scene& s, std::vector<Vec3>& normals) {
+    std::vector<double> areas(s.triangles.size());
+    normals.resize(s.triangles.size());
+    for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+        const auto& t = s.triangles[i];
+        const Vec3 c = cross(s.positions[t.v[1]] - s.positions[t.v[0]], s.positions[t.v[2]] - s.positions[t.v[0]]);
+        const double len = length(c);
+        areas[i] = 0.5 * len;
+        normals[i] = len > 0 ? c / len : Vec3(0, 0, 1);
+    }
+    return areas;
+}
+
+/// Power heuristic (beta = 2) weight of a strategy with density a against one with density b.
+double powerHeuristic(double a, double b) {
+    if (a <= 0) return 0.0;
+    if (b <= 0) return 1.0;
+    const double a2 = a * a, b2 = b * b;
+    return a2 / (a2 + b2);
+}
+
+}  // namespace
+
+EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& areas) : slot_(scene.triangles.size(), -1) {
+    std::vector<double> power;
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+        const PhongMaterial& m = scene.materials[scene.triangles[i].material];
+        const double p = areas[i] * luminance(m.emission);
+        if (m.isEmissive() && p > 0) {
+            slot_[i] = static_cast<std::int32_t>(emitters_.size());
+            emitters_.push_back(static_cast<std::uint32_t>(i));
+            power.push_back(p);
+        }
+    }
+    distribution_ = Distribution1D(power);
+}
+
+double EmitterSampler::pickProbability(std::uint32_t prim) const {
+    const std::int32_t s = slot_[prim];
+    return s < 0 ? 0.0 : distribution_.pmf(static_cast<std::size_t>(s));
+}
+
+std::uint32_t EmitterSampler::pick(double u, double& probability) const {
+    const std::size_t i = distribution_.sample(u);
+    probability = distribution_.pmf(i);
+    return emitters_[i];
+}
+
+PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings)
+    : scene_(scene),
+      accel_(accel),
+      estimator_(estimator),
+      settings_(settings),
+      areas_(triangleAreas(scene, geometricNormals_)),
+      emitters_(scene, areas_) {
+    Vec3 lo, hi;
+    scene.bounds(lo, hi);
+    const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});
+    epsilon_ = 1e-5 * extent;
+}
+
+Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, Rng& rng, std::uint32_t sampleIndex, std::uint32_t sampleCount,
+                                 TraceStats& stats, PathScratch& scratch) const {
+    if (scratch.directions.size() < static_cast<std::size_t>(settings_.maxDepth) + 1)
+        scratch.directions.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
+    PathContext pc{rng, sampleIndex, sampleCount, stats, scratch};
+    return radiance(o, d, 0, 0.0, Color(1.0), pc);
+}
+
+// One path vertex: emission (MIS-weighted against light sampling when the previous vertex could also
+// have reached it by NEE), then NEE, then the estimator's directions, each continued recursively.
+Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, double prevMisPdf, const Color& throughput,
+                           PathContext& pc) const {
+    Hit hit;
+    ++pc.stats.rays;
+    if (!accel_.intersect(o, d, depth == 0 ? 0.0 : epsilon_, std::numeric_limits<double>::infinity(), hit))
+        return scene_.environment;
+
+    const Triangle& tri = scene_.triangles[hit.prim];
+    const PhongMaterial& mat = scene_.materials[tri.material];
+    const Vec3 p = o + d * hit.t;
+    Vec3 ng = geometricNormals_[hit.prim];
+    const bool frontFace = dot(ng, d) < 0;
+
+    Color L(0.0);
+    if (mat.isEmissive() && frontFace) {
+        double w = 1.0;
+        if (depth > 0 && settings_.nextEvent) {
+            const double dist2 = hit.t * hit.t * dot(d, d);
+            const double cosL = -dot(ng, d) / length(d);
+            const double lightPdf = emitters_.pickProbability(hit.prim) / areas_[hit.prim] * dist2 / cosL;
+            w = powerHeuristic(prevMisPdf, lightPdf);
+        }
+        L += mat.emission * w;
+    }
+    if (depth >= settings_.maxDepth) return L;
+
+    if (!frontFace) ng = -ng;
+    Vec3 ns = ng;
+    if (tri.n[0] >= 0) {
+        const double b0 = 1.0 - hit.u - hit.v;
+        ns = normalize(scene_.normals[tri.n[0]] * b0 + scene_.normals[tri.n[1]] * hit.u + scene_.normals[tri.n[2]] * hit.v);
+        if (dot(ns, ng) < 0) ns = -ns;
+    }
+    const Frame frame = Frame::fromNormal(ns);
+    const Vec3 wo = frame.toLocal(normalize(-d));
+    if (wo.z <= 0) return L;  // seen from behind its shading normal: reflects nothing
+
+    const ShadingContext sc{wo, &mat, depth, pc.sampleIndex, pc.sampleCount};
+    if (settings_.nextEvent && !emitters_.empty()) L += sampleEmitter(p, ng, frame, sc, pc);
+
+    std::vector<DirectionSample>& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
+    dirs.clear();
+    estimator_.sample(sc, pc.rng, dirs);
+    const Vec3 origin = p + ng * epsilon_;
+    for (const DirectionSample& s : dirs) {
+        const Vec3 wi = frame.toWorld(s.wi);
+        if (dot(wi, ng) <= 0) continue;  // the shading normal points it through the surface
+        Color next = throughput * s.weight;
+        double survive = 1.0;
+        if (depth + 1 >= settings_.rrDepth) {
+            survive = std::min(0.95, maxComponent(next));
+            if (!(survive > 0) || pc.rng.uniform() >= survive) continue;
+            next /= survive;
+        }
+        L += s.weight * radiance(origin, wi, depth + 1, settings_.nextEvent ? s.misPdf : 0.0, next, pc) / survive;
+    }
+    return L;
+}
+
+// Next-event estimation: one point on one emitter, weighted against the estimator by the power heuristic.
+Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, PathContext& pc) const {
+    double pick = 0;
+    const std::uint32_t prim = emitters_.pick(pc.rng.uniform(), pick);
+    const Point2 b = sampleUniformTriangle(pc.rng.uniform2());
+    const Triangle& t = scene_.triangles[prim];
+    const Vec3 q = scene_.positions[t.v[0]] * b.u + scene_.positions[t.v[1]] * b.v +
+                   scene_.positions[t.v[2]] * (1.0 - b.u - b.v);
+    const Vec3 toLight = q - p;
+    const double dist2 = dot(toLight, toLight);
+    if (dist2 <= 0) return Color(0.0);
+    const Vec3 wi = toLight / std::sqrt(dist2);
+    const double cosL = -dot(geometricNormals_[prim], wi);
+    if (cosL <= 0 || dot(wi, ng) <= 0) return Color(0.0);
+    const Vec3 wiLocal = frame.toLocal(wi);
+    const Color f = evalPhong(*sc.material, sc.wo, wiLocal);
+    if (isBlack(f)) return Color(0.0);
+    const double lightPdf = pick / areas_[prim] * dist2 / cosL;
+    const Vec3 origin = p + ng * epsilon_;
+    ++pc.stats.rays;
+    if (accel_.occluded(origin, q - origin, 0.0, 1.0 - 1e-5)) return Color(0.0);
+    const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
+    return f * scene_.materials[t.material].emission * (wiLocal.z * w / lightPdf);
+}
+
+}  // namespace symphong

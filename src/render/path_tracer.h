@@ -1,0 +1,81 @@
+// render/ — turning a scene into an image. Owns emitter sampling for next-event estimation, the path
+// tracer (NEE + multiple importance sampling with whatever estimator was chosen, Russian roulette), the
+// camera model, and the parallel, reproducible tile loop. It asks accel/ for ray queries and estimators/
+// for directions, and never looks inside either.
+#pragma once
+
+#include "accel/accel.h"
+#include "estimators/estimator.h"
+#include "sampling/distribution1d.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace symphong {
+
+struct TraceSettings {
+    int maxDepth = 16;     ///< most scattering events on a path; 0 shows emitters only
+    int rrDepth = 3;       ///< Russian roulette from this depth on
+    bool nextEvent = true; ///< light sampling (next-event estimation) combined by MIS
+};
+
+struct TraceStats {
+    std::uint64_t rays = 0;        ///< closest-hit and shadow queries
+    std::uint64_t badSamples = 0;  ///< non-finite path contributions, discarded (counted, never written)
+};
+
+/// Uniform area sampling of emissive triangles, each chosen in proportion to its power (area x Y(Le)).
+class EmitterSampler {
+public:
+    explicit EmitterSampler(const Scene& scene, const std::vector<double>& areas);
+    bool empty() const { return emitters_.empty(); }
+    /// Probability of picking triangle `prim` (0 if it does not emit).
+    double pickProbability(std::uint32_t prim) const;
+    /// Picks an emitter triangle; returns its index in Scene::triangles.
+    std::uint32_t pick(double u, double& probability) const;
+
+private:
+    std::vector<std::uint32_t> emitters_;
+    std::vector<std::int32_t> slot_;  ///< triangle -> index in emitters_, or -1
+    Distribution1D distribution_;
+};
+
+/// Per-thread working memory of the path tracer.
+struct PathScratch {
+    std::vector<std::vector<DirectionSample>> directions;  ///< one buffer per depth
+};
+
+class PathTracer {
+public:
+    PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings);
+
+    /// Radiance arriving at the camera along o + t d, for camera sample `sampleIndex` of `sampleCount`
+    /// of its pixel (the stratified estimator needs to know which).
+    Color cameraRadiance(const Vec3& o, const Vec3& d, Rng& rng, std::uint32_t sampleIndex, std::uint32_t sampleCount,
+                         TraceStats& stats, PathScratch& scratch) const;
+
+    const Scene& scene() const { return scene_; }
+    double epsilon() const { return epsilon_; }
+
+private:
+    struct PathContext {
+        Rng& rng;
+        std::uint32_t sampleIndex, sampleCount;
+        TraceStats& stats;
+        PathScratch& scratch;
+    };
+    Color radiance(const Vec3& o, const Vec3& d, int depth, double prevMisPdf, const Color& throughput, PathContext& pc) const;
+    Color sampleEmitter(const Vec3& p, const Vec3& ng, const class Frame& frame, const ShadingContext& sc, PathContext& pc) const;
+
+    const Scene& scene_;
+    const Accel& accel_;
+    const Estimator& estimator_;
+    TraceSettings settings_;
+    std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
+    std::vector<double> areas_;
+    EmitterSampler emitters_;
+    double epsilon_ = 1e-4;  ///< ray offset, relative to the scene's size
+};
+
+}  // namespace symphong

@@ -1,0 +1,82 @@
+#include "render/renderer.h"
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+namespace symphong {
+
+void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir) {
+    const Vec3 forward = normalize(cam.target - cam.position);
+    const Vec3 right = normalize(cross(forward, cam.up));
+    const Vec3 up = cross(right, forward);
+    const double tanHalf = std::tan(0.5 * cam.fovY * kPi / 180.0);
+    const double aspect = static_cast<double>(width) / height;
+    const double sx = (2.0 * px / width - 1.0) * tanHalf * aspect;
+    const double sy = (1.0 - 2.0 * py / height) * tanHalf;
+    origin = cam.position;
+    dir = normalize(forward + right * sx + up * sy);
+}
+
+RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                    std::atomic<std::uint64_t>* progress) {
+    const auto start = std::chrono::steady_clock::now();
+    RenderResult result;
+    result.image = Image(settings.width, settings.height);
+    result.variance = Image(settings.width, settings.height);
+    const PathTracer tracer(scene, accel, estimator, settings.trace);
+
+    constexpr int kTile = 16;
+    const int tilesX = (settings.width + kTile - 1) / kTile, tilesY = (settings.height + kTile - 1) / kTile;
+    std::mutex statsMutex;
+    const std::uint32_t spp = settings.spp;
+
+    const auto renderTile = [&](int tile) {
+        const int tx = tile % tilesX, ty = tile / tilesX;
+        TraceStats stats;
+        PathScratch scratch;
+        for (int y = ty * kTile; y < std::min(settings.height, (ty + 1) * kTile); ++y) {
+            for (int x = tx * kTile; x < std::min(settings.width, (tx + 1) * kTile); ++x) {
+                const std::uint64_t pixel = static_cast<std::uint64_t>(y) * settings.width + x;
+                Rng rng(mixSeed(settings.seed, pixel), pixel);
+                Color sum(0.0), sumSq(0.0);
+                for (std::uint32_t i = 0; i < spp; ++i) {
+                    const Point2 jitter = rng.uniform2();
+                    Vec3 o, d;
+                    cameraRay(scene.camera, settings.width, settings.height, x + jitter.u, y + jitter.v, o, d);
+                    Color L = tracer.cameraRadiance(o, d, rng, i, spp, stats, scratch);
+                    if (!isFinite(L) || minComponent(L) < 0) {
+                        ++stats.badSamples;
+                        L = Color(0.0);
+                    }
+                    sum += L;
+                    sumSq += L * L;
+                }
+                const Color mean = sum / spp;
+                result.image.at(x, y) = mean;
+                if (spp > 1) {
+                    const Color var = vmax(Color(0.0), (sumSq - sum * mean) / (spp - 1.0));
+                    result.variance.at(x, y) = var / spp;
+                }
+            }
+            if (progress) progress->fetch_add(static_cast<std::uint64_t>(std::min(settings.width, (tx + 1) * kTile) - tx * kTile) * spp,
+                                              std::memory_order_relaxed);
+        }
+        std::lock_guard<std::mutex> lock(statsMutex);
+        result.stats.rays += stats.rays;
+        result.stats.badSamples += stats.badSamples;
+    };
+
+    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(0, tilesX * tilesY, [&](int tile) { renderTile(tile); });
+    });
+    result.stats.samples = static_cast<std::uint64_t>(settings.width) * settings.height * spp;
+    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace symphong

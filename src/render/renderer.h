@@ -1,0 +1,42 @@
+// render/renderer.h — the image loop: pixels in 16x16 tiles spread over oneTBB, one PCG stream per
+// pixel (seeded from --seed and the pixel index), so the same seed gives the same image bit for bit at
+// any thread count. Also keeps the per-pixel variance of the mean for statistical comparisons.
+#pragma once
+
+#include "io/image.h"
+#include "render/path_tracer.h"
+
+#include <atomic>
+#include <cstdint>
+
+namespace symphong {
+
+struct RenderSettings {
+    int width = 512, height = 512;
+    std::uint32_t spp = 64;
+    std::uint64_t seed = 1;
+    int threads = 0;  ///< 0: all hardware threads
+    TraceSettings trace;
+};
+
+struct RenderStats {
+    double seconds = 0;
+    std::uint64_t rays = 0;
+    std::uint64_t samples = 0;     ///< camera samples (paths started)
+    std::uint64_t badSamples = 0;  ///< non-finite contributions discarded
+};
+
+struct RenderResult {
+    Image image;     ///< per-pixel mean radiance
+    Image variance;  ///< per-pixel variance of that mean (sample variance / spp), per channel
+    RenderStats stats;
+};
+
+/// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image.
+void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir);
+
+/// Renders the scene. `progress`, when given, is advanced by the number of camera samples finished.
+RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                    std::atomic<std::uint64_t>* progress = nullptr);
+
+}  // namespace symphong

@@ -1,0 +1,131 @@
+// JSON scene files: an OBJ (or the built-in Cornell box) plus a camera, material overrides and an
+// environment radiance. The format is documented in docs/scene-format.md. Unknown keys are errors, so
+// a typo never silently falls back to a default.
+#include "io/input_error.h"
+#include "scene/scene.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+namespace symphong {
+
+namespace {
+
+using nlohmann::json;
+
+void checkKeys(const json& obj, const std::set<std::string>& allowed, const std::string& where, const std::string& path) {
+    if (!obj.is_object()) throw InputError(fmt::format("{}: {} must be a JSON object", path, where));
+    for (const auto& item : obj.items())
+        if (!allowed.count(item.key())) {
+            std::string list;
+            for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+            throw InputError(fmt::format("{}: unknown key '{}' in {} (allowed: {})", path, item.key(), where, list));
+        }
+}
+
+double number(const json& j, const std::string& where, const std::string& path) {
+    if (!j.is_number()) throw InputError(fmt::format("{}: {} must be a number, got {}", path, where, j.dump()));
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) throw InputError(fmt::format("{}: {} is not finite", path, where));
+    return v;
+}
+
+Vec3 vec3(const json& j, const std::string& where, const std::string& path) {
+    if (j.is_number()) {
+        const double v = number(j, where, path);
+        return Vec3(v);
+    }
+    if (!j.is_array() || j.size() != 3)
+        throw InputError(fmt::format("{}: {} must be an array of 3 numbers, got {}", path, where, j.dump()));
+    return {number(j[0], where, path), number(j[1], where, path), number(j[2], where, path)};
+}
+
+Color nonNegativeColor(const json& j, const std::string& where, const std::string& path) {
+    const Color c = vec3(j, where, path);
+    if (minComponent(c) < 0) throw InputError(fmt::format("{}: {} has a negative value {}", path, where, j.dump()));
+    return c;
+}
+
+}  // namespace
+
+Scene loadJsonScene(const std::string& path) {
+    const std::string text = readTextFile(path);
+    json doc;
+    try {
+        doc = json::parse(text);
+    } catch (const json::parse_error& e) {
+        // nlohmann's message already names the line and column.
+        std::string what = e.what();
+        const auto colon = what.find(": ");
+        throw InputError(fmt::format("{}: malformed JSON: {}", path, colon == std::string::npos ? what : what.substr(colon + 2)));
+    }
+    checkKeys(doc, {"obj", "builtin", "camera", "materials", "environment", "name"}, "the scene", path);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+
+    Scene scene;
+    if (doc.contains("obj") == doc.contains("builtin"))
+        throw InputError(fmt::format("{}: give exactly one of \"obj\" (a path) or \"builtin\": \"cornell\"", path));
+    bool cameraFromData = false;
+    if (doc.contains("obj")) {
+        if (!doc["obj"].is_string()) throw InputError(fmt::format("{}: \"obj\" must be a string path", path));
+        std::filesystem::path obj = doc["obj"].get<std::string>();
+        if (obj.is_relative()) obj = dir / obj;
+        scene = loadObj(obj.string());
+    } else {
+        if (doc["builtin"] != "cornell")
+            throw InputError(fmt::format("{}: unknown builtin scene {} (valid: \"cornell\")", path, doc["builtin"].dump()));
+        scene = makeCornellBox();
+        cameraFromData = true;
+    }
+    scene.name = std::filesystem::path(path).stem().string();
+    if (doc.contains("name")) {
+        if (!doc["name"].is_string()) throw InputError(fmt::format("{}: \"name\" must be a string", path));
+        scene.name = doc["name"].get<std::string>();
+    }
+
+    if (doc.contains("camera")) {
+        const json& c = doc["camera"];
+        checkKeys(c, {"position", "target", "up", "fov"}, "\"camera\"", path);
+        Camera cam = cameraFromData ? scene.camera : scene.automaticCamera();
+        if (c.contains("position")) cam.position = vec3(c["position"], "camera.position", path);
+        if (c.contains("target")) cam.target = vec3(c["target"], "camera.target", path);
+        if (c.contains("up")) cam.up = vec3(c["up"], "camera.up", path);
+        if (c.contains("fov")) cam.fovY = number(c["fov"], "camera.fov", path);
+        scene.camera = cam;
+    }
+
+    if (doc.contains("materials")) {
+        const json& mats = doc["materials"];
+        if (!mats.is_object()) throw InputError(fmt::format("{}: \"materials\" must be an object of name: {{...}}", path));
+        for (const auto& item : mats.items()) {
+            const int idx = scene.findMaterial(item.key());
+            if (idx < 0) {
+                std::string list;
+                for (const auto& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
+                throw InputError(fmt::format("{}: material override '{}' matches no material in the scene (have: {})", path, item.key(), list));
+            }
+            const json& m = item.value();
+            const std::string where = "materials." + item.key();
+            checkKeys(m, {"kd", "ks", "ns", "ke"}, where, path);
+            PhongMaterial& mat = scene.materials[static_cast<std::size_t>(idx)];
+            if (m.contains("kd")) mat.rhoD = nonNegativeColor(m["kd"], where + ".kd", path);
+            if (m.contains("ks")) mat.rhoS = nonNegativeColor(m["ks"], where + ".ks", path);
+            if (m.contains("ke")) mat.emission = nonNegativeColor(m["ke"], where + ".ke", path);
+            if (m.contains("ns")) {
+                mat.exponent = number(m["ns"], where + ".ns", path);
+                if (mat.exponent < 0) throw InputError(fmt::format("{}: {}.ns = {} is negative (a Phong exponent must be >= 0)", path, where, mat.exponent));
+            }
+        }
+    }
+
+    const bool environmentGiven = doc.contains("environment");
+    if (environmentGiven) scene.environment = nonNegativeColor(doc["environment"], "environment", path);
+    finalizeScene(scene, path, environmentGiven);
+    return scene;
+}
+
+}  // namespace symphong

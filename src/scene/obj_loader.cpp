@@ -1,0 +1,234 @@
+// Wavefront OBJ/MTL loading. tinyobjloader does the parsing; before it runs, a line-by-line pass over
+// the OBJ (and its MTL) rejects what tinyobjloader would accept silently or report without a line:
+// non-finite numbers, faces with fewer than 3 vertices, indices of 0 or out of range.
+#include "io/input_error.h"
+#include "scene/scene.h"
+
+#include <fmt/format.h>
+#include <tiny_obj_loader.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+namespace symphong {
+
+namespace {
+
+std::vector<std::string> splitWords(const std::string& line) {
+    std::vector<std::string> words;
+    std::istringstream in(line);
+    std::string w;
+    while (in >> w) words.push_back(w);
+    return words;
+}
+
+std::string trim(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos) return {};
+    const auto e = s.find_last_not_of(" \t\r\n");
+    return s.substr(b, e - b + 1);
+}
+
+/// Parses a whole token as a finite double; false otherwise.
+bool parseFinite(const std::string& token, double& value) {
+    errno = 0;
+    char* end = nullptr;
+    value = std::strtod(token.c_str(), &end);
+    return end != token.c_str() && *end == '\0' && std::isfinite(value);
+}
+
+/// Calls fn(lineNumber, words) for each non-empty, non-comment line of a text.
+template <class Fn>
+void forEachLine(const std::string& text, Fn&& fn) {
+    std::istringstream in(text);
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        const auto hash = line.find('#');
+        if (hash != std::string::npos) line.erase(hash);
+        auto words = splitWords(line);
+        if (!words.empty()) fn(number, words);
+    }
+}
+
+struct ObjScan {
+    std::set<std::string> usedMaterials;
+    std::vector<std::string> mtllibs;
+};
+
+ObjScan validateObj(const std::string& path, const std::string& text) {
+    ObjScan scan;
+    long counts[3] = {0, 0, 0};  // v, vt, vn
+    forEachLine(text, [&](int line, const std::vector<std::string>& w) {
+        const std::string& key = w[0];
+        const auto numbers = [&](std::size_t minimum, const char* what) {
+            if (w.size() - 1 < minimum)
+                throw InputError(fmt::format("{}:{}: '{}' line needs {} numbers, got {}", path, line, key, minimum, w.size() - 1));
+            for (std::size_t i = 1; i < w.size(); ++i) {
+                double value;
+                if (!parseFinite(w[i], value))
+                    throw InputError(fmt::format("{}:{}: {} '{}' is not a finite number", path, line, what, w[i]));
+            }
+        };
+        if (key == "v") {
+            numbers(3, "vertex coordinate");
+            ++counts[0];
+        } else if (key == "vt") {
+            numbers(1, "texture coordinate");
+            ++counts[1];
+        } else if (key == "vn") {
+            numbers(3, "normal component");
+            ++counts[2];
+        } else if (key == "f") {
+            if (w.size() - 1 < 3)
+                throw InputError(fmt::format("{}:{}: face has {} vertices, at least 3 are needed", path, line, w.size() - 1));
+            static const char* kinds[3] = {"vertex", "texture", "normal"};
+            for (std::size_t i = 1; i < w.size(); ++i) {
+                std::size_t start = 0;
+                for (int k = 0; k < 3 && start <= w[i].size(); ++k) {
+                    const auto slash = w[i].find('/', start);
+                    const std::string part = w[i].substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+                    if (!part.empty()) {
+                        char* end = nullptr;
+                        const long idx = std::strtol(part.c_str(), &end, 10);
+                        if (*end != '\0')
+                            throw InputError(fmt::format("{}:{}: face index '{}' is not an integer", path, line, w[i]));
+                        if (idx == 0)
+                            throw InputError(fmt::format("{}:{}: face {} index 0 in '{}' (OBJ indices start at 1)", path, line, kinds[k], w[i]));
+                        const long resolved = idx > 0 ? idx : counts[k] + idx + 1;
+                        if (resolved < 1 || resolved > counts[k])
+                            throw InputError(fmt::format("{}:{}: face {} index {} in '{}' is out of range ({} defined so far)",
+                                                         path, line, kinds[k], idx, w[i], counts[k]));
+                    } else if (k == 0) {
+                        throw InputError(fmt::format("{}:{}: face corner '{}' has no vertex index", path, line, w[i]));
+                    }
+                    if (slash == std::string::npos) break;
+                    start = slash + 1;
+                }
+            }
+        } else if (key == "usemtl" && w.size() >= 2) {
+            scan.usedMaterials.insert(trim(w[1]));
+        } else if (key == "mtllib" && w.size() >= 2) {
+            for (std::size_t i = 1; i < w.size(); ++i) scan.mtllibs.push_back(w[i]);
+        }
+    });
+    return scan;
+}
+
+void validateMtl(const std::string& path, const std::string& text) {
+    forEachLine(text, [&](int line, const std::vector<std::string>& w) {
+        const std::string& key = w[0];
+        const bool colour = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ka";
+        if (!colour && key != "Ns") return;
+        if (colour && w.size() >= 2 && (w[1] == "spectral" || w[1] == "xyz")) return;  // not used by symphong
+        if (w.size() < 2) throw InputError(fmt::format("{}:{}: '{}' has no value", path, line, key));
+        for (std::size_t i = 1; i < w.size() && i <= 3; ++i) {
+            double value;
+            if (!parseFinite(w[i], value))
+                throw InputError(fmt::format("{}:{}: {} value '{}' is not a finite number", path, line, key, w[i]));
+            if (value < 0) throw InputError(fmt::format("{}:{}: {} value {} is negative", path, line, key, w[i]));
+        }
+    });
+}
+
+Color toColor(const tinyobj::real_t c[3]) { return {c[0], c[1], c[2]}; }
+
+}  // namespace
+
+Scene loadObj(const std::string& path) {
+    const std::string text = readTextFile(path);
+    const ObjScan scan = validateObj(path, text);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    for (const std::string& lib : scan.mtllibs) {
+        const auto mtlPath = (dir / lib).string();
+        if (std::filesystem::exists(mtlPath)) validateMtl(mtlPath, readTextFile(mtlPath));
+    }
+
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = dir.string();
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(path, config)) throw InputError(fmt::format("{}: {}", path, trim(reader.Error())));
+
+    Scene scene;
+    scene.name = std::filesystem::path(path).stem().string();
+    for (const std::string& lib : scan.mtllibs)
+        if (!std::filesystem::exists(dir / lib))
+            scene.warnings.push_back(fmt::format("{}: material library '{}' not found; using the default material", path, lib));
+
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
+        scene.positions.emplace_back(attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]);
+    for (std::size_t i = 0; i + 2 < attrib.normals.size(); i += 3) {
+        Vec3 n(attrib.normals[i], attrib.normals[i + 1], attrib.normals[i + 2]);
+        const double len = length(n);
+        scene.normals.push_back(len > 0 ? n / len : Vec3(0, 0, 1));
+    }
+
+    for (const tinyobj::material_t& mt : reader.GetMaterials()) {
+        PhongMaterial m;
+        m.name = trim(mt.name);
+        m.rhoD = toColor(mt.diffuse);
+        m.rhoS = toColor(mt.specular);
+        m.exponent = mt.shininess;
+        m.emission = toColor(mt.emission);
+        scene.materials.push_back(m);
+    }
+    const auto defaultIndex = static_cast<std::uint32_t>(scene.materials.size());
+    bool usedDefault = false;
+
+    std::set<std::string> undefined;
+    for (const std::string& name : scan.usedMaterials)
+        if (scene.findMaterial(name) < 0) undefined.insert(name);
+    if (!undefined.empty()) {
+        std::string list;
+        for (const auto& n : undefined) list += (list.empty() ? "'" : ", '") + n + "'";
+        scene.warnings.push_back(fmt::format("{}: undefined material(s) {} get the default material", path, list));
+    }
+
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const tinyobj::mesh_t& mesh = shape.mesh;
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
+            const unsigned count = mesh.num_face_vertices[f];
+            if (count != 3) {
+                offset += count;
+                continue;
+            }
+            Triangle t;
+            bool allNormals = true;
+            for (unsigned k = 0; k < 3; ++k) {
+                const tinyobj::index_t& idx = mesh.indices[offset + k];
+                t.v[k] = static_cast<std::uint32_t>(idx.vertex_index);
+                t.n[k] = idx.normal_index;
+                allNormals = allNormals && idx.normal_index >= 0;
+            }
+            if (!allNormals) t.n = {-1, -1, -1};
+            const int mid = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
+            if (mid >= 0 && static_cast<std::size_t>(mid) < defaultIndex) {
+                t.material = static_cast<std::uint32_t>(mid);
+            } else {
+                t.material = defaultIndex;
+                usedDefault = true;
+            }
+            scene.triangles.push_back(t);
+            offset += count;
+        }
+    }
+    if (usedDefault || scene.materials.empty()) {
+        PhongMaterial m;  // grey diffuse
+        m.name = "default";
+        scene.materials.push_back(m);
+    }
+    if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
+    scene.camera = scene.automaticCamera();
+    return scene;
+}
+
+}  // namespace symphong

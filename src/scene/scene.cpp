@@ -1,0 +1,101 @@
+#include "scene/scene.h"
+
+#include "io/input_error.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+
+namespace symphong {
+
+void Scene::bounds(Vec3& lo, Vec3& hi) const {
+    lo = Vec3(std::numeric_limits<double>::infinity());
+    hi = Vec3(-std::numeric_limits<double>::infinity());
+    for (const Triangle& t : triangles)
+        for (std::uint32_t i : t.v) {
+            lo = vmin(lo, positions[i]);
+            hi = vmax(hi, positions[i]);
+        }
+}
+
+int Scene::findMaterial(const std::string& n) const {
+    for (std::size_t i = 0; i < materials.size(); ++i)
+        if (materials[i].name == n) return static_cast<int>(i);
+    return -1;
+}
+
+bool Scene::hasEmitter() const {
+    for (const Triangle& t : triangles)
+        if (materials[t.material].isEmissive()) return true;
+    return false;
+}
+
+Camera Scene::automaticCamera(double fovY) const {
+    Vec3 lo, hi;
+    bounds(lo, hi);
+    const Vec3 center = 0.5 * (lo + hi);
+    const double radius = std::max(1e-6, 0.5 * length(hi - lo));
+    const double distance = radius / std::sin(0.5 * fovY * kPi / 180.0);
+    Camera c;
+    c.position = center + Vec3(0, 0, distance);
+    c.target = center;
+    c.up = Vec3(0, 1, 0);
+    c.fovY = fovY;
+    return c;
+}
+
+void finalizeScene(Scene& scene, const std::string& source, bool environmentGiven) {
+    if (scene.triangles.empty()) throw InputError(fmt::format("{}: the scene has no triangles", source));
+    if (scene.materials.empty()) throw InputError(fmt::format("{}: the scene has no materials", source));
+    for (PhongMaterial& m : scene.materials) {
+        try {
+            if (validateAndClampPhong(m))
+                scene.warnings.push_back(fmt::format(
+                    "{}: material '{}' reflects more than it receives (Kd + Ks > 1); scaled down to Kd = ({:.3g}, {:.3g}, {:.3g}), Ks = ({:.3g}, {:.3g}, {:.3g})",
+                    source, m.name, m.rhoD.x, m.rhoD.y, m.rhoD.z, m.rhoS.x, m.rhoS.y, m.rhoS.z));
+        } catch (const std::invalid_argument& e) {
+            throw InputError(fmt::format("{}: {}", source, e.what()));
+        }
+    }
+    if (!isFinite(scene.environment) || minComponent(scene.environment) < 0)
+        throw InputError(fmt::format("{}: environment radiance must be finite and >= 0", source));
+    const Camera& c = scene.camera;
+    if (!isFinite(c.position) || !isFinite(c.target) || !isFinite(c.up) || !std::isfinite(c.fovY))
+        throw InputError(fmt::format("{}: camera has a non-finite value", source));
+    if (!(c.fovY > 0 && c.fovY < 180))
+        throw InputError(fmt::format("{}: camera fov {} must lie in (0, 180) degrees", source, c.fovY));
+    if (length(c.target - c.position) == 0)
+        throw InputError(fmt::format("{}: camera position and target coincide", source));
+    if (length(cross(c.target - c.position, c.up)) == 0)
+        throw InputError(fmt::format("{}: camera up vector is parallel to the viewing direction", source));
+    if (!scene.hasEmitter() && !environmentGiven) {
+        scene.environment = Color(1.0);
+        scene.warnings.push_back(fmt::format(
+            "{}: the scene has no emitter (no material with Ke > 0); lighting it with a uniform white environment "
+            "(L = 1). Set \"environment\" in a JSON scene file to change this.",
+            source));
+    }
+}
+
+Scene loadScene(const std::string& spec) {
+    if (spec == "cornell") {
+        Scene s = makeCornellBox();
+        finalizeScene(s, spec, false);
+        return s;
+    }
+    const std::filesystem::path p(spec);
+    std::string ext = p.extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext == ".obj") {
+        Scene s = loadObj(spec);
+        finalizeScene(s, spec, false);
+        return s;
+    }
+    if (ext == ".json") return loadJsonScene(spec);
+    throw InputError(fmt::format("{}: unknown scene (expected 'cornell', a .obj file or a .json scene file)", spec));
+}
+
+}  // namespace symphong

@@ -1,0 +1,67 @@
+// scene/ — what is rendered: triangles with Phong materials, emitters, a camera and an environment
+// radiance. Owns the built-in Cornell box and the loaders for Wavefront OBJ/MTL (through tinyobjloader)
+// and JSON scene files (through nlohmann-json); validates every number it reads, so the layers below
+// never see a NaN, a negative albedo or an out-of-range index.
+#pragma once
+
+#include "materials/phong.h"
+#include "math/vec3.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace symphong {
+
+struct Camera {
+    Vec3 position{0, 0, 1};
+    Vec3 target{0, 0, 0};
+    Vec3 up{0, 1, 0};
+    double fovY = 40.0;  ///< vertical field of view in degrees
+};
+
+struct Triangle {
+    std::array<std::uint32_t, 3> v{};        ///< indices into Scene::positions
+    std::array<std::int32_t, 3> n{-1, -1, -1};  ///< indices into Scene::normals, -1 when absent
+    std::uint32_t material = 0;
+};
+
+struct Scene {
+    std::string name = "scene";
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;  ///< optional smoothing normals (unit length)
+    std::vector<Triangle> triangles;
+    std::vector<PhongMaterial> materials;
+    Camera camera;
+    Color environment{0.0};  ///< radiance arriving from directions that leave the scene
+    std::vector<std::string> warnings;
+
+    /// Axis-aligned bounds of the positions.
+    void bounds(Vec3& lo, Vec3& hi) const;
+    /// Index of the material with this name, or -1.
+    int findMaterial(const std::string& name) const;
+    bool hasEmitter() const;
+    /// A camera that frames the bounding box from the +Z side, looking down -Z with +Y up.
+    Camera automaticCamera(double fovY = 40.0) const;
+};
+
+/// The built-in Cornell box: the original Cornell geometry (0..556 units, the 130 x 105 light just
+/// under the ceiling), red left wall, green right wall, and a glossy Phong tall block.
+Scene makeCornellBox();
+
+/// Loads a scene from a spec: "cornell" (built-in), a path ending in .obj, or a path ending in .json.
+/// Throws InputError on every problem; collects non-fatal notes in Scene::warnings.
+Scene loadScene(const std::string& spec);
+
+/// Wavefront OBJ with its MTL. Validates the file line by line before handing it to tinyobjloader.
+Scene loadObj(const std::string& path);
+
+/// JSON scene file; see docs/scene-format.md.
+Scene loadJsonScene(const std::string& path);
+
+/// Final checks shared by every loader: materials valid and energy conserving (clamped with a
+/// warning), at least one triangle, a usable camera; adds the fallback environment when nothing emits.
+void finalizeScene(Scene& scene, const std::string& source, bool environmentGiven);
+
+}  // namespace symphong
