@@ -59,28 +59,33 @@ double PhongLobeEstimator::diffuseProbability(const PhongMaterial& m) {
     return d + s > 0 ? d / (d + s) : 1.0;
 }
 
-void PhongLobeEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
+Vec3 PhongLobeEstimator::sampleDirection(const ShadingContext& ctx, Rng& rng) {
     const PhongMaterial& m = *ctx.material;
-    const double pd = diffuseProbability(m);
     const double choose = rng.uniform();
     const Point2 p = rng.uniform2();
-    Vec3 wi;
-    if (choose < pd) {
-        wi = sampleCosineHemisphere(p);
-    } else {
-        const Vec3 r(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
-        wi = Frame::fromNormal(r).toWorld(samplePhongLobe(p, m.exponent));
-    }
-    pushWeighted(ctx, wi, misPdf(ctx, wi), out);
+    if (choose < diffuseProbability(m)) return sampleCosineHemisphere(p);
+    const Vec3 r(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
+    return Frame::fromNormal(r).toWorld(samplePhongLobe(p, m.exponent));
 }
 
-double PhongLobeEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const {
-    if (wi.z <= 0) return 0.0;
+double PhongLobeEstimator::directionPdf(const ShadingContext& ctx, const Vec3& wi) {
     const PhongMaterial& m = *ctx.material;
     const double pd = diffuseProbability(m);
     double pdf = pd * cosineHemispherePdf(wi);
-    if (pd < 1.0) pdf += (1.0 - pd) * phongLobePdf(phongCosAlpha(ctx.wo, wi), m.exponent);
+    if (pd < 1.0) {
+        const Vec3 r(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
+        pdf += (1.0 - pd) * phongLobePdf(dot(r, wi), m.exponent);
+    }
     return pdf;
+}
+
+void PhongLobeEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
+    const Vec3 wi = sampleDirection(ctx, rng);
+    pushWeighted(ctx, wi, directionPdf(ctx, wi), out);
+}
+
+double PhongLobeEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const {
+    return wi.z > 0 ? directionPdf(ctx, wi) : 0.0;
 }
 
 }  // namespace symphong

@@ -47,6 +47,10 @@ public:
 
     /// Probability of choosing the diffuse lobe for a material.
     static double diffuseProbability(const PhongMaterial& m);
+    /// One direction of the mixture, before the horizon test (a lobe direction may point below it).
+    static Vec3 sampleDirection(const ShadingContext& ctx, Rng& rng);
+    /// The mixture's density over the whole sphere, matching sampleDirection.
+    static double directionPdf(const ShadingContext& ctx, const Vec3& wi);
 };
 
 }  // namespace symphong

@@ -74,7 +74,11 @@ Scene loadJsonScene(const std::string& path) {
         if (!doc["obj"].is_string()) throw InputError(fmt::format("{}: \"obj\" must be a string path", path));
         std::filesystem::path obj = doc["obj"].get<std::string>();
         if (obj.is_relative()) obj = dir / obj;
-        scene = loadObj(obj.string());
+        try {
+            scene = loadObj(obj.string());
+        } catch (const InputError& e) {
+            throw InputError(fmt::format("{}: \"obj\": {}", path, e.what()));
+        }
     } else {
         if (doc["builtin"] != "cornell")
             throw InputError(fmt::format("{}: unknown builtin scene {} (valid: \"cornell\")", path, doc["builtin"].dump()));

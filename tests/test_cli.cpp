@@ -1,0 +1,153 @@
+// The command line end to end (in process): every bad input gives a one-line message naming the
+// problem, exit code 2, and leaves no output file (an existing one is left untouched); good inputs
+// render every shared scene.
+#include "cli/cli.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace symphong;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+    int code;
+    std::string err, out;
+};
+
+CliRun runArgs(std::vector<std::string> args) {
+    args.insert(args.begin(), "symphong");
+    std::vector<const char*> argv;
+    for (const auto& a : args) argv.push_back(a.c_str());
+    testing::internal::CaptureStderr();
+    testing::internal::CaptureStdout();
+    const int code = runCli(static_cast<int>(argv.size()), argv.data());
+    CliRun r{code, testing::internal::GetCapturedStderr(), testing::internal::GetCapturedStdout()};
+    return r;
+}
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("symphong-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string out(const std::string& name) const { return (dir_ / name).string(); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(dir_ / name) << text;
+        return out(name);
+    }
+    /// Nothing but the files we put there: no image, no temporary file.
+    std::size_t filesInDir() const {
+        std::size_t n = 0;
+        for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
+        return n;
+    }
+    void expectBadInput(const std::vector<std::string>& args, const std::string& expected) {
+        const std::size_t before = filesInDir();
+        const CliRun r = runArgs(args);
+        EXPECT_EQ(r.code, 2) << r.err;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << "stderr was: " << r.err;
+        EXPECT_NE(r.err.find("error"), std::string::npos) << r.err;
+        EXPECT_EQ(filesInDir(), before) << "a failed run must not create files: " << r.err;
+    }
+    fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(Cli, HelpExitsZeroAndExplains) {
+    const CliRun r = runArgs({"render", "--help"});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("--estimator"), std::string::npos);
+    EXPECT_NE(r.out.find("sRGB"), std::string::npos);
+    EXPECT_NE(r.out.find("--exposure"), std::string::npos);
+}
+
+TEST_F(Cli, RendersTheDefaultSceneToPngAndExr) {
+    const CliRun png = runArgs({"render", "--spp", "2", "-W", "16", "-H", "12", "-o", out("c.png")});
+    ASSERT_EQ(png.code, 0) << png.err;
+    EXPECT_TRUE(fs::file_size(out("c.png")) > 0);
+    EXPECT_NE(png.out.find("Mrays/s"), std::string::npos) << png.out;
+    EXPECT_NE(png.out.find("samples/s"), std::string::npos) << png.out;
+    const CliRun exr = runArgs({"render", "cornell", "--spp", "1", "-W", "8", "-H", "8", "--exr-half", "-o", out("c.exr")});
+    ASSERT_EQ(exr.code, 0) << exr.err;
+    EXPECT_EQ(filesInDir(), 2u) << "no temporary files are left behind";
+}
+
+TEST_F(Cli, BadArgumentsAreRejected) {
+    expectBadInput({"render", "--estimator", "symetric", "-o", out("a.png")}, "valid: uniform, cosine, stratified, phong");
+    expectBadInput({"render", "--spp", "0", "-o", out("a.png")}, "--spp");
+    expectBadInput({"render", "--spp", "-4", "-o", out("a.png")}, "--spp");
+    expectBadInput({"render", "--width", "0", "-o", out("a.png")}, "--width");
+    expectBadInput({"render", "--height", "100000", "-o", out("a.png")}, "--height");
+    expectBadInput({"render", "--width", "16384", "--height", "16384", "-o", out("a.png")}, "too large");
+    expectBadInput({"render", "--exposure", "-1", "-o", out("a.png")}, "--exposure");
+    expectBadInput({"render", "--max-depth", "-1", "-o", out("a.png")}, "--max-depth");
+    expectBadInput({"render", "--spp", "abc", "-o", out("a.png")}, "abc");
+    expectBadInput({"render", "-o", out("a.jpg")}, "must end in .png or .exr");
+    expectBadInput({"render", "--bogus"}, "--bogus");
+    expectBadInput({}, "subcommand");
+}
+
+TEST_F(Cli, BadScenesAreRejected) {
+    expectBadInput({"render", out("missing.obj"), "-o", out("a.png")}, "missing.obj: no such file");
+    expectBadInput({"render", "scene.blend", "-o", out("a.png")}, "unknown scene");
+    expectBadInput({"render", write("bad.json", "{\"builtin\": \"cornell\", \"materials\": {\"white\": {\"ns\": -2}}}"), "-o", out("a.png")},
+                   "negative");
+    expectBadInput({"render", write("nan.json", "{\"builtin\": \"cornell\", \"environment\": NaN}"), "-o", out("a.png")},
+                   "malformed JSON");
+}
+
+TEST_F(Cli, EveryMalformedObjExitsTwoAndWritesNothing) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    for (const auto& e : fs::directory_iterator(test::scenesDir() + "/malformed"))
+        if (e.path().extension() == ".obj")
+            expectBadInput({"render", e.path().string(), "--spp", "1", "-W", "8", "-H", "8", "-o", out("m.png")},
+                           e.path().filename().string());
+}
+
+TEST_F(Cli, AFailedRunLeavesAnExistingOutputUntouched) {
+    const std::string target = write("keep.png", "previous contents");
+    const CliRun r = runArgs({"render", "--estimator", "nope", "-o", target});
+    EXPECT_EQ(r.code, 2);
+    std::ifstream in(target);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    EXPECT_EQ(ss.str(), "previous contents");
+}
+
+TEST_F(Cli, UnwritableOutputIsAnErrorBeforeRendering) {
+    write("file", "x");
+    const CliRun r = runArgs({"render", "--spp", "1", "-W", "4", "-H", "4", "-o", out("file") + "/sub/a.png"});
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("cannot create"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, RendersEverySharedSceneThatIsNotMalformed) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    const std::vector<std::pair<std::string, std::string>> scenes = {
+        {"cornell-box-mcguire/CornellBox-Original.obj", ""},
+        {"cornell-box-mcguire/CornellBox-Glossy.obj", "'sphere'"},
+        {"cornell-box-mcguire/CornellBox-Sphere.obj", ""},
+        {"cornell-box-original/cornell_box.obj", "no emitter"},
+        {"lenient/missing_material_file.obj", "undefined material"},
+        {"bunny/stanford-bunny.obj", "no emitter"},
+    };
+    for (const auto& [rel, warning] : scenes) {
+        const std::string png = out(fs::path(rel).stem().string() + ".png");
+        const CliRun r = runArgs({"render", test::scenesDir() + "/" + rel, "--spp", "2", "-W", "16", "-H", "16", "-o", png});
+        EXPECT_EQ(r.code, 0) << rel << ": " << r.err;
+        EXPECT_TRUE(fs::exists(png)) << rel;
+        if (!warning.empty()) {
+            EXPECT_NE(r.err.find(warning), std::string::npos) << rel << ": " << r.err;
+        }
+    }
+}

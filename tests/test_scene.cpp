@@ -1,0 +1,197 @@
+// Scene loading: the built-in Cornell box, every OBJ in the shared scenes (including the quirky and
+// the malformed ones), and JSON scene files with their errors.
+#include "io/input_error.h"
+#include "scene/scene.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace symphong;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string scene(const std::string& rel) { return test::scenesDir() + "/" + rel; }
+
+bool anyWarningContains(const Scene& s, const std::string& text) {
+    for (const auto& w : s.warnings)
+        if (w.find(text) != std::string::npos) return true;
+    return false;
+}
+
+std::string errorOf(const std::string& spec) {
+    try {
+        loadScene(spec);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() / ("symphong-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(path / name) << text;
+        return (path / name).string();
+    }
+};
+
+}  // namespace
+
+TEST(CornellBuiltin, HasTheOriginalGeometryAndAGlossyTallBlock) {
+    const Scene s = loadScene("cornell");
+    EXPECT_EQ(s.triangles.size(), 32u);
+    Vec3 lo, hi;
+    s.bounds(lo, hi);
+    EXPECT_DOUBLE_EQ(lo.x, 0);
+    EXPECT_DOUBLE_EQ(hi.x, 556);
+    EXPECT_DOUBLE_EQ(hi.y, 548.8);
+    const int tall = s.findMaterial("tallBlock");
+    ASSERT_GE(tall, 0);
+    EXPECT_TRUE(s.materials[tall].hasSpecular());
+    EXPECT_GT(luminance(s.materials[tall].rhoD), 0);
+    EXPECT_TRUE(s.hasEmitter());
+    EXPECT_TRUE(s.warnings.empty());
+    // The light is 130 x 105.
+    double lightArea = 0;
+    for (const auto& t : s.triangles)
+        if (s.materials[t.material].isEmissive())
+            lightArea += 0.5 * length(cross(s.positions[t.v[1]] - s.positions[t.v[0]], s.positions[t.v[2]] - s.positions[t.v[0]]));
+    EXPECT_NEAR(lightArea, 130.0 * 105.0, 1e-9);
+}
+
+TEST(ObjScenes, McGuireBoxesLoadWithTrimmedMaterialNames) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    const Scene original = loadScene(scene("cornell-box-mcguire/CornellBox-Original.obj"));
+    EXPECT_EQ(original.triangles.size(), 36u);
+    EXPECT_TRUE(original.hasEmitter());
+    const Scene glossy = loadScene(scene("cornell-box-mcguire/CornellBox-Glossy.obj"));
+    EXPECT_EQ(glossy.triangles.size(), 1112u);
+    EXPECT_FALSE(glossy.normals.empty());
+    const int sphere = glossy.findMaterial("sphere");
+    ASSERT_GE(sphere, 0) << "'sphere' has trailing tabs in the MTL and must be trimmed";
+    EXPECT_DOUBLE_EQ(glossy.materials[sphere].exponent, 32);
+    EXPECT_GE(glossy.findMaterial("light"), 0) << "' newmtl light' has a leading space";
+    // Kd 0.486.. + Ks 0.7 > 1: clamped, with a warning naming the material.
+    EXPECT_LE(glossy.materials[sphere].rhoD.z + glossy.materials[sphere].rhoS.z, 1.0 + 1e-12);
+    EXPECT_TRUE(anyWarningContains(glossy, "'sphere'"));
+    const Scene spheres = loadScene(scene("cornell-box-mcguire/CornellBox-Sphere.obj"));
+    EXPECT_EQ(spheres.triangles.size(), 2188u);
+    EXPECT_DOUBLE_EQ(spheres.materials[spheres.findMaterial("leftSphere")].exponent, 1000);
+}
+
+TEST(ObjScenes, BunnyLoadsWithTheDefaultMaterialAndAFallbackEnvironment) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    const Scene s = loadScene(scene("bunny/stanford-bunny.obj"));
+    EXPECT_EQ(s.triangles.size(), 69451u);
+    EXPECT_EQ(s.materials.size(), 1u);
+    EXPECT_TRUE(anyWarningContains(s, "no emitter"));
+    EXPECT_EQ(s.environment, Color(1.0));
+}
+
+TEST(ObjScenes, CornellOriginalWarnsThatNothingEmits) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    const Scene s = loadScene(scene("cornell-box-original/cornell_box.obj"));
+    EXPECT_EQ(s.triangles.size(), 36u);
+    EXPECT_TRUE(anyWarningContains(s, "no emitter"));
+}
+
+TEST(ObjScenes, LenientSceneNamesItsUndefinedMaterials) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    const Scene s = loadScene(scene("lenient/missing_material_file.obj"));
+    EXPECT_EQ(s.triangles.size(), 36u);
+    EXPECT_TRUE(anyWarningContains(s, "'white'"));
+    EXPECT_TRUE(anyWarningContains(s, "'light'"));
+}
+
+TEST(ObjScenes, EveryMalformedFileIsRejectedWithFileAndLine) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"malformed/invalid-face-definition.obj", "invalid-face-definition.obj:"},
+        {"malformed/issue-140-zero-face-idx.obj", "index 0"},
+        {"malformed/test-nan.obj", "test-nan.obj:12: vertex coordinate 'nan'"},
+        {"malformed/invalid-relative-vertex-index.obj", "invalid-relative-vertex-index.obj:1: face vertex index -4"},
+        {"malformed/invalid-relative-texture-index.obj", "invalid-relative-texture-index.obj:2:"},
+    };
+    for (const auto& [file, expected] : cases) {
+        const std::string msg = errorOf(scene(file));
+        EXPECT_NE(msg.find(expected), std::string::npos) << file << " gave: '" << msg << "'";
+    }
+}
+
+TEST(ObjScenes, MissingAndUnknownFilesAreInputErrors) {
+    EXPECT_NE(errorOf("/nonexistent/x.obj").find("no such file"), std::string::npos);
+    EXPECT_NE(errorOf("scene.fbx").find("unknown scene"), std::string::npos);
+    EXPECT_NE(errorOf(fs::temp_directory_path().string() + "/dir.obj/").find("unknown scene"), std::string::npos);
+}
+
+TEST(ObjScenes, MtlWithNegativeOrNonFiniteValuesIsRejected) {
+    TempDir dir;
+    const std::string obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+    dir.write("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\nNs -3\n");
+    const std::string path = dir.write("a.obj", obj);
+    EXPECT_NE(errorOf(path).find("m.mtl:3: Ns value -3 is negative"), std::string::npos) << errorOf(path);
+    dir.write("m.mtl", "newmtl a\nKd 0.5 nan 0.5\n");
+    EXPECT_NE(errorOf(path).find("m.mtl:2: Kd value 'nan' is not a finite number"), std::string::npos) << errorOf(path);
+}
+
+TEST(JsonScenes, BuiltinWithOverridesAndCamera) {
+    TempDir dir;
+    const std::string path = dir.write("glossy.json", R"({
+        "builtin": "cornell",
+        "name": "glossy100",
+        "materials": {"tallBlock": {"ks": 0.7, "kd": [0.1, 0.1, 0.1], "ns": 100}},
+        "camera": {"fov": 45}
+    })");
+    const Scene s = loadScene(path);
+    EXPECT_EQ(s.name, "glossy100");
+    const auto& m = s.materials[s.findMaterial("tallBlock")];
+    EXPECT_DOUBLE_EQ(m.exponent, 100);
+    EXPECT_DOUBLE_EQ(m.rhoS.y, 0.7);
+    EXPECT_DOUBLE_EQ(s.camera.fovY, 45);
+    EXPECT_DOUBLE_EQ(s.camera.position.z, -800);
+}
+
+TEST(JsonScenes, ObjRelativeToTheJsonFile) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    TempDir dir;
+    const std::string path = dir.write("bunny.json", R"({"obj": ")" + scene("bunny/stanford-bunny.obj") +
+                                                         R"(", "environment": [0.5, 0.6, 0.7], "camera": {"position": [0, 0.1, 0.4], "target": [0, 0.1, 0]}})");
+    const Scene s = loadScene(path);
+    EXPECT_EQ(s.environment, Color(0.5, 0.6, 0.7));
+    EXPECT_FALSE(anyWarningContains(s, "no emitter")) << "an explicit environment is not a fallback";
+    EXPECT_DOUBLE_EQ(s.camera.position.z, 0.4);
+}
+
+TEST(JsonScenes, ErrorsNameTheProblem) {
+    TempDir dir;
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"({"builtin": "cornell",})", "malformed JSON"},
+        {R"({"builtin": "cornell", "camra": {}})", "unknown key 'camra'"},
+        {R"({"builtin": "cornell", "materials": {"tallBlock": {"ns": -5}}})", "is negative"},
+        {R"({"builtin": "cornell", "materials": {"nothing": {"ns": 5}}})", "matches no material"},
+        {R"({"builtin": "cornell", "materials": {"white": {"kd": [0.1, -0.2, 0.3]}}})", "negative value"},
+        {R"({"builtin": "cornell", "camera": {"fov": 0}})", "fov 0"},
+        {R"({"builtin": "cornell", "camera": {"position": [1, 2]}})", "array of 3 numbers"},
+        {R"({"builtin": "cornell", "camera": {"up": [0, 0, 1]}})", "parallel"},
+        {R"({"builtin": "sponza"})", "unknown builtin"},
+        {R"({"obj": "missing.obj"})", "no such file"},
+        {R"({})", "exactly one of"},
+        {R"([1, 2])", "must be a JSON object"},
+    };
+    for (const auto& [text, expected] : cases) {
+        const std::string path = dir.write("s.json", text);
+        const std::string msg = errorOf(path);
+        EXPECT_NE(msg.find(expected), std::string::npos) << text << " gave: '" << msg << "'";
+        EXPECT_NE(msg.find("s.json"), std::string::npos) << msg;
+    }
+}

@@ -1,0 +1,76 @@
+// Shared helpers for tests that need scenes: where the shared test scenes are, a closed furnace
+// sphere, and tiny renders.
+#pragma once
+
+#include "accel/accel.h"
+#include "estimators/estimator.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace symphong::test {
+
+/// ../shared/scenes beside the repository, or $SYMPHONG_SCENES. Empty when absent.
+inline std::string scenesDir() {
+    if (const char* env = std::getenv("SYMPHONG_SCENES")) return env;
+    return std::filesystem::exists(SYMPHONG_SHARED_SCENES) ? std::string(SYMPHONG_SHARED_SCENES) : std::string();
+}
+
+/// Skips the test when the shared scenes are missing, unless SYMPHONG_REQUIRE_SCENES is set (CI sets it).
+#define SYMPHONG_REQUIRE_SCENES_DIR()                                                                    \
+    do {                                                                                                 \
+        if (::symphong::test::scenesDir().empty()) {                                                     \
+            if (std::getenv("SYMPHONG_REQUIRE_SCENES")) FAIL() << "shared scenes not found";             \
+            GTEST_SKIP() << "shared scenes not found beside the repository (set SYMPHONG_SCENES)";       \
+        }                                                                                                \
+    } while (0)
+
+/// A closed UV sphere of radius 1 seen from inside: every triangle faces the centre, emits Le and
+/// reflects diffusely with albedo a. The radiance everywhere inside is Le / (1 - a).
+inline Scene makeFurnaceSphere(double le, double albedo, int stacks = 16, int slices = 32) {
+    Scene s;
+    s.name = "furnace";
+    PhongMaterial m;
+    m.name = "furnace";
+    m.rhoD = Color(albedo);
+    m.emission = Color(le);
+    s.materials.push_back(m);
+    for (int i = 0; i <= stacks; ++i)
+        for (int j = 0; j < slices; ++j) {
+            const double th = kPi * i / stacks, ph = kTwoPi * j / slices;
+            s.positions.emplace_back(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+        }
+    const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * slices + (j % slices)); };
+    for (int i = 0; i < stacks; ++i)
+        for (int j = 0; j < slices; ++j) {
+            // Wound so the counter-clockwise normal points inwards.
+            if (i > 0) s.triangles.push_back({{at(i, j), at(i + 1, j), at(i, j + 1)}, {-1, -1, -1}, 0});
+            if (i + 1 < stacks) s.triangles.push_back({{at(i, j + 1), at(i + 1, j), at(i + 1, j + 1)}, {-1, -1, -1}, 0});
+        }
+    s.camera.position = Vec3(0.1, -0.05, 0.02);
+    s.camera.target = Vec3(1, 0.2, 0.3);
+    s.camera.up = Vec3(0, 1, 0);
+    s.camera.fovY = 90;
+    return s;
+}
+
+inline RenderResult renderTiny(const Scene& scene, const std::string& estimator, int size, std::uint32_t spp,
+                               std::uint64_t seed, int threads = 0, bool nee = true, int maxDepth = 16) {
+    const Accel accel(scene);
+    const auto est = makeEstimator(estimator);
+    RenderSettings rs;
+    rs.width = rs.height = size;
+    rs.spp = spp;
+    rs.seed = seed;
+    rs.threads = threads;
+    rs.trace.nextEvent = nee;
+    rs.trace.maxDepth = maxDepth;
+    return render(scene, accel, *est, rs);
+}
+
+}  // namespace symphong::test
