@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Sets symphong up on Debian 12: installs the Debian packages it needs (only those missing, with
+# apt-get, as root or through sudo) and builds the Release preset into build/release.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  cmake ninja-build g++ pkg-config
+  libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libpcg-cpp-dev
+  libgtest-dev libbenchmark-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+cmake --preset release >/dev/null
+cmake --build --preset release
