@@ -34,7 +34,7 @@ Scene makeCornellBox() {
     const auto white = material("white", {0.725, 0.71, 0.68}, Color(0.0), 1.0, Color(0.0));
     const auto red = material("red", {0.63, 0.065, 0.05}, Color(0.0), 1.0, Color(0.0));
     const auto green = material("green", {0.14, 0.45, 0.091}, Color(0.0), 1.0, Color(0.0));
-    const auto glossy = material("tallBlock", {0.25, 0.25, 0.25}, Color(0.6), 60.0, Color(0.0));
+    const auto glossy = material("tallBlock", {0.3, 0.3, 0.3}, Color(0.45), 60.0, Color(0.0));
     const auto light = material("light", {0.78, 0.78, 0.78}, Color(0.0), 1.0, {17.0, 12.0, 4.0});
 
     addQuad(s, {{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}}, white);                  // floor

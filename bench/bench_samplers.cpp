@@ -1,0 +1,55 @@
+// Directions per second of each warp and each estimator (Google Benchmark). Counters report
+// directions/s, so estimators that return several directions per call compare fairly.
+#include "estimators/estimator.h"
+#include "sampling/warp.h"
+
+#include <benchmark/benchmark.h>
+
+using namespace symphong;
+
+namespace {
+
+template <class Fn>
+void warpLoop(benchmark::State& state, Fn&& fn) {
+    Rng rng(1, 2);
+    for (auto _ : state) benchmark::DoNotOptimize(fn(rng.uniform2()));
+    state.counters["directions/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_UniformHemisphere(benchmark::State& s) { warpLoop(s, sampleUniformHemisphere); }
+void BM_CosineHemisphere(benchmark::State& s) { warpLoop(s, sampleCosineHemisphere); }
+void BM_PhongLobe(benchmark::State& s) {
+    const double n = static_cast<double>(s.range(0));
+    warpLoop(s, [n](Point2 p) { return samplePhongLobe(p, n); });
+}
+void BM_UniformTriangle(benchmark::State& s) { warpLoop(s, sampleUniformTriangle); }
+
+void BM_Estimator(benchmark::State& state, const std::string& name) {
+    const auto est = makeEstimator(name);
+    PhongMaterial m;
+    m.rhoD = Color(0.3);
+    m.rhoS = Color(0.6);
+    m.exponent = 50;
+    const ShadingContext ctx{normalize(Vec3(0.3, 0.2, 0.9)), &m, 0, 3, 16};
+    Rng rng(3, 4);
+    std::vector<DirectionSample> out;
+    std::size_t directions = 0;
+    for (auto _ : state) {
+        out.clear();
+        est->sample(ctx, rng, out);
+        directions += out.size();
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.counters["directions/s"] = benchmark::Counter(static_cast<double>(directions), benchmark::Counter::kIsRate);
+}
+
+}  // namespace
+
+BENCHMARK(BM_UniformHemisphere);
+BENCHMARK(BM_CosineHemisphere);
+BENCHMARK(BM_PhongLobe)->Arg(10)->Arg(1000);
+BENCHMARK(BM_UniformTriangle);
+BENCHMARK_CAPTURE(BM_Estimator, uniform, std::string("uniform"));
+BENCHMARK_CAPTURE(BM_Estimator, cosine, std::string("cosine"));
+BENCHMARK_CAPTURE(BM_Estimator, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Estimator, phong, std::string("phong"));
