@@ -23,6 +23,9 @@ struct ShadingContext {
     int depth = 0;                     ///< 0 at the first surface seen from the camera
     std::uint32_t sampleIndex = 0;     ///< index of the camera sample within its pixel
     std::uint32_t sampleCount = 1;     ///< camera samples per pixel
+    /// Whether the estimator may return several directions (the path tracer allows it at the first
+    /// hit only, so paths never branch exponentially); otherwise it returns at most one.
+    bool branch = false;
 };
 
 struct DirectionSample {
@@ -43,6 +46,16 @@ public:
 
     /// The misPdf that sample() would attach to direction wi at this point (0 where it never samples).
     virtual double misPdf(const ShadingContext& ctx, const Vec3& wi) const = 0;
+
+    /// Whether the path tracer may combine this estimator with light sampling by MIS. An estimator
+    /// without a density (the paper's, as printed) must account for all reflected light itself.
+    virtual bool combinesWithLightSampling() const { return true; }
+};
+
+/// Settings that only some estimators read.
+struct EstimatorOptions {
+    int symmetricN = 1;         ///< N': (u,v) points per piece for `paper`, `symmetric`, `symmetric-shifted`
+    bool paperRefined = false;  ///< `paper`: the conclusion's finer lobe normalisation instead of Eq. (6)'s
 };
 
 /// Names accepted by makeEstimator, in the order --help lists them.
@@ -51,7 +64,8 @@ const std::vector<std::string>& estimatorNames();
 /// One line per estimator for --help.
 std::string estimatorHelp();
 
-/// Creates an estimator by name; throws std::invalid_argument listing the valid names otherwise.
-std::unique_ptr<Estimator> makeEstimator(std::string_view name);
+/// Creates an estimator by name; throws std::invalid_argument listing the valid names otherwise, or
+/// naming an option that is out of range.
+std::unique_ptr<Estimator> makeEstimator(std::string_view name, const EstimatorOptions& options = {});
 
 }  // namespace symphong

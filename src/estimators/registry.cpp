@@ -1,5 +1,6 @@
 #include "estimators/basic.h"
 #include "estimators/estimator.h"
+#include "estimators/symmetric.h"
 
 #include <fmt/format.h>
 
@@ -8,7 +9,7 @@
 namespace symphong {
 
 const std::vector<std::string>& estimatorNames() {
-    static const std::vector<std::string> names = {"uniform", "cosine", "stratified", "phong"};
+    static const std::vector<std::string> names = {"uniform", "cosine", "stratified", "phong", "paper", "symmetric", "symmetric-shifted"};
     return names;
 }
 
@@ -16,14 +17,22 @@ std::string estimatorHelp() {
     return "uniform    - uniform hemisphere directions, p = 1/(2 pi)\n"
            "cosine     - cosine-weighted directions, p = cos/pi\n"
            "stratified - cosine directions from jittered strata across each pixel's samples (first hit)\n"
-           "phong      - Phong lobe importance sampling: diffuse or specular lobe chosen by albedo";
+           "phong      - Phong lobe importance sampling: diffuse or specular lobe chosen by albedo\n"
+           "paper      - the paper's symmetric estimator, Eq. (4) + (7), exactly as printed (biased)\n"
+           "symmetric  - corrected symmetric estimator: 16 pieces + 8 rotated triangles, exact maps, MIS\n"
+           "symmetric-shifted - as symmetric, each symmetric copy from its own shifted (u,v)";
 }
 
-std::unique_ptr<Estimator> makeEstimator(std::string_view name) {
+std::unique_ptr<Estimator> makeEstimator(std::string_view name, const EstimatorOptions& options) {
+    if (options.symmetricN < 1 || options.symmetricN > 4096)
+        throw std::invalid_argument(fmt::format("--symmetric-n {} is out of range (1..4096)", options.symmetricN));
     if (name == "uniform") return std::make_unique<UniformEstimator>();
     if (name == "cosine") return std::make_unique<CosineEstimator>();
     if (name == "stratified") return std::make_unique<StratifiedEstimator>();
     if (name == "phong") return std::make_unique<PhongLobeEstimator>();
+    if (name == "paper") return std::make_unique<PaperEstimator>(options.symmetricN, options.paperRefined);
+    if (name == "symmetric") return std::make_unique<SymmetricEstimator>(options.symmetricN, false);
+    if (name == "symmetric-shifted") return std::make_unique<SymmetricEstimator>(options.symmetricN, true);
     throw std::invalid_argument(fmt::format("unknown estimator '{}' (valid: {})", name, fmt::join(estimatorNames(), ", ")));
 }
 

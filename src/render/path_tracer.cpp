@@ -65,7 +65,8 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       estimator_(estimator),
       settings_(settings),
       areas_(triangleAreas(scene, geometricNormals_)),
-      emitters_(scene, areas_) {
+      emitters_(scene, areas_),
+      useLightSampling_(settings.nextEvent && estimator.combinesWithLightSampling() && !emitters_.empty()) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});
@@ -98,7 +99,7 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, double prevM
     Color L(0.0);
     if (mat.isEmissive() && frontFace) {
         double w = 1.0;
-        if (depth > 0 && settings_.nextEvent) {
+        if (depth > 0 && useLightSampling_) {
             const double dist2 = hit.t * hit.t * dot(d, d);
             const double cosL = -dot(ng, d) / length(d);
             const double lightPdf = emitters_.pickProbability(hit.prim) / areas_[hit.prim] * dist2 / cosL;
@@ -119,24 +120,27 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, double prevM
     const Vec3 wo = frame.toLocal(normalize(-d));
     if (wo.z <= 0) return L;  // seen from behind its shading normal: reflects nothing
 
-    const ShadingContext sc{wo, &mat, depth, pc.sampleIndex, pc.sampleCount};
-    if (settings_.nextEvent && !emitters_.empty()) L += sampleEmitter(p, ng, frame, sc, pc);
+    const ShadingContext sc{wo, &mat, depth, pc.sampleIndex, pc.sampleCount, depth == 0};
+    if (useLightSampling_) L += sampleEmitter(p, ng, frame, sc, pc);
 
     std::vector<DirectionSample>& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
     estimator_.sample(sc, pc.rng, dirs);
     const Vec3 origin = p + ng * epsilon_;
+    // `throughput` only steers Russian roulette. A branch of a K-direction set carries about 1/K of the
+    // set's light; judging it by K times its weight keeps roulette from killing the branches of a set.
+    const double branches = static_cast<double>(std::max<std::size_t>(1, dirs.size()));
     for (const DirectionSample& s : dirs) {
         const Vec3 wi = frame.toWorld(s.wi);
-        if (dot(wi, ng) <= 0) continue;  // the shading normal points it through the surface
-        Color next = throughput * s.weight;
+        if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
+        Color next = throughput * s.weight * branches;
         double survive = 1.0;
         if (depth + 1 >= settings_.rrDepth) {
             survive = std::min(0.95, maxComponent(next));
             if (!(survive > 0) || pc.rng.uniform() >= survive) continue;
             next /= survive;
         }
-        L += s.weight * radiance(origin, wi, depth + 1, settings_.nextEvent ? s.misPdf : 0.0, next, pc) / survive;
+        L += s.weight * radiance(origin, wi, depth + 1, s.misPdf, next, pc) / survive;
     }
     return L;
 }

@@ -75,6 +75,7 @@ private:
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
     std::vector<double> areas_;
     EmitterSampler emitters_;
+    bool useLightSampling_;  ///< NEE + MIS: asked for, possible with this estimator, and something emits
     double epsilon_ = 1e-4;  ///< ray offset, relative to the scene's size
 };
 

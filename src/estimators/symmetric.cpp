@@ -1,0 +1,138 @@
+#include "estimators/symmetric.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace symphong {
+
+using namespace separation;
+
+namespace {
+
+Vec3 mirrorOf(const Vec3& wo) { return {-wo.x, -wo.y, wo.z}; }
+
+double frac(double x) {
+    const double f = x - std::floor(x);
+    return f < 1.0 ? f : 0.0;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------
+// paper
+
+double PaperEstimator::lobeNormalisation(double n, bool refined) {
+    const double a = std::pow(std::sqrt(3.0) / 3.0, n + 1.0);
+    if (!refined) return kTwoPi * (1.0 - a) / (n + 1.0);  // Eq. (6) with cos(theta_s,max) = 1/sqrt(3)
+    const double b = std::pow(std::sqrt(2.0) / 2.0, n + 1.0);
+    return kTwoPi / (n + 1.0) * (1.0 - 0.5 * (a + b));     // the conclusion's estimate
+}
+
+void PaperEstimator::allDirections(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
+    const PhongMaterial& m = *ctx.material;
+    const Color rhoD = m.rhoD * kInvPi;                                   // the paper's rho_d
+    const Color rhoS = m.rhoS * ((m.exponent + 2.0) / kTwoPi);           // the paper's rho_s
+    const bool specular = m.hasSpecular();
+    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
+    const double np = nPrime_;
+    const double diffuseScale = kPi / (48.0 * np);                        // Eq. (4): rho_d pi / (48 N')
+    const double specularScale = lobeNormalisation(m.exponent, refined_) / (8.0 * np);  // Eq. (7) over N = 8N'
+    for (int j = 0; j <= nPrime_; ++j) {  // Eq. (4) sums j = 0..N' as printed: N'+1 points
+        const Point2 p = rng.uniform2();
+        const double w = paperWeight(p);
+        const Vec3 tri = paperTriangleMap(p), quad = paperQuadrangleMap(p);
+        for (int k = 0; k < 8; ++k) {
+            out.push_back({toOctant(tri, k), rhoD * (diffuseScale * 0.5 * w), 0.0});  // (1/2) L_tri
+            out.push_back({toOctant(quad, k), rhoD * (diffuseScale * w), 0.0});       // L_quad
+            if (specular && j >= 1) {  // Eq. (7) sums j = 1..N'
+                const Vec3 d = lobe.toLocal(toOctant(tri, k));  // R_X(theta_s) P, in the local frame
+                out.push_back({d, rhoS * (specularScale * d.z), 0.0});  // Z' as printed, negative below
+            }
+        }
+    }
+}
+
+void PaperEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
+    if (ctx.branch) {
+        allDirections(ctx, rng, out);
+        return;
+    }
+    std::vector<DirectionSample> all;
+    allDirections(ctx, rng, all);
+    const auto k = std::min(all.size() - 1, static_cast<std::size_t>(rng.uniform() * static_cast<double>(all.size())));
+    DirectionSample s = all[k];
+    s.weight *= static_cast<double>(all.size());
+    out.push_back(s);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// symmetric, symmetric-shifted
+
+Point2 SymmetricEstimator::copyPoint(Point2 p, int k, PieceKind kind) const {
+    if (!shifted_) return p;
+    const double half = kind == PieceKind::Quadrangle ? 0.5 / 8.0 : 0.0;
+    return {frac(p.u + ((3 * k) % 8) / 8.0 + half), frac(p.v + k / 8.0 + half)};
+}
+
+double SymmetricEstimator::setDensity(const ShadingContext& ctx, const LobeFrame& lobe, const Vec3& wi) {
+    if (wi.z <= 0) return 0.0;
+    double d = pieceDensity(inTriangles(wi) ? PieceKind::Triangle : PieceKind::Quadrangle, wi);
+    if (ctx.material->hasSpecular()) {
+        const Vec3 face = lobe.toFace(wi);
+        if (face.z > 0 && inTriangles(face)) d += lobeTriangleDensity(foldToOctant0(face), ctx.material->exponent);
+    }
+    return d;
+}
+
+void SymmetricEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
+    const PhongMaterial& m = *ctx.material;
+    const bool specular = m.hasSpecular();
+    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
+    const int pieces = specular ? 24 : 16;
+    const double scale = ctx.branch ? static_cast<double>(nPrime_) : 1.0 / pieces;
+    const auto push = [&](const Vec3& wi) {
+        if (wi.z <= 0) return;  // a rotated direction below the surface carries no light (erratum 6)
+        const Color f = evalPhong(m, ctx.wo, wi);
+        if (isBlack(f)) return;
+        const double d = scale * setDensity(ctx, lobe, wi);
+        out.push_back({wi, f * (wi.z / d), d});
+    };
+    if (!ctx.branch) {
+        const int piece = std::min(pieces - 1, static_cast<int>(rng.uniform() * pieces));
+        const Point2 p = rng.uniform2();
+        const int k = piece % 8;
+        if (piece < 8) push(toOctant(triangleMap(p), k));
+        else if (piece < 16) push(toOctant(quadrangleMap(p), k));
+        else push(lobe.toLocal(toOctant(lobeTriangleMap(p, m.exponent), k)));
+        return;
+    }
+    for (int j = 0; j < nPrime_; ++j) {
+        const Point2 p = rng.uniform2();
+        if (!shifted_) {
+            // One point, three maps, then only sign flips and swaps: the paper's reuse by symmetry.
+            const Vec3 tri = triangleMap(p), quad = quadrangleMap(p);
+            const Vec3 lobeDir = specular ? lobeTriangleMap(p, m.exponent) : Vec3();
+            for (int k = 0; k < 8; ++k) {
+                push(toOctant(tri, k));
+                push(toOctant(quad, k));
+                if (specular) push(lobe.toLocal(toOctant(lobeDir, k)));
+            }
+            continue;
+        }
+        for (int k = 0; k < 8; ++k) {
+            const Point2 pt = copyPoint(p, k, PieceKind::Triangle);
+            push(toOctant(triangleMap(pt), k));
+            push(toOctant(quadrangleMap(copyPoint(p, k, PieceKind::Quadrangle)), k));
+            if (specular) push(lobe.toLocal(toOctant(lobeTriangleMap(pt, m.exponent), k)));
+        }
+    }
+}
+
+double SymmetricEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const {
+    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
+    const int pieces = ctx.material->hasSpecular() ? 24 : 16;
+    const double scale = ctx.branch ? static_cast<double>(nPrime_) : 1.0 / pieces;
+    return scale * setDensity(ctx, lobe, wi);
+}
+
+}  // namespace symphong

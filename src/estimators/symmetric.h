@@ -1,0 +1,72 @@
+// estimators/symmetric.h — the symmetric-sampling estimators of the Uniform Separation: the paper's
+// Eq. (8) exactly as printed (`paper`), our corrected unbiased version (`symmetric`) and its
+// decorrelated variant (`symmetric-shifted`). docs/estimators.md derives each weight.
+#pragma once
+
+#include "estimators/estimator.h"
+#include "sampling/separation.h"
+
+namespace symphong {
+
+/// `paper`: Eq. (4) + Eq. (7) = Eq. (8), formula for formula. The paper's rho_d is our rho_d / pi and its
+/// rho_s our rho_s (n+2)/(2 pi), so a render differs from ours by the estimator alone. N'+1 points
+/// (u_j,v_j), j = 0..N', feed Eq. (4)'s sum as printed; j = 1..N' feed Eq. (7). Each point gives 8 triangle
+/// directions (paper's triangle map), 8 "quadrangle" directions (paper's map, which lands in the wrong
+/// place) and 8 specular directions (the triangle directions rotated by R_X(theta_s)), weighted:
+///   triangle   rho_d/pi * pi/(48 N') * 1/2 * w(u_j,v_j)          (Eq. 4, p_T = 1/24 as a weight)
+///   quadrangle rho_d/pi * pi/(48 N') * w(u_j,v_j)                (Eq. 4, p_Q = 1/12)
+///   specular   rho_s^paper * 2 pi/(8 N' (n+1)) * (1 - (sqrt3/3)^(n+1)) * Z'   (Eq. 7; Z' may be < 0)
+/// It is biased (errata 2-6). Without a density it cannot be combined with light sampling.
+/// At deeper bounces one of the directions is kept, chosen uniformly, its weight times their number.
+class PaperEstimator final : public Estimator {
+public:
+    explicit PaperEstimator(int nPrime, bool refined) : nPrime_(nPrime), refined_(refined) {}
+    std::string_view name() const override { return "paper"; }
+    void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
+    double misPdf(const ShadingContext&, const Vec3&) const override { return 0.0; }
+    bool combinesWithLightSampling() const override { return false; }
+
+    /// The specular normalisation: Eq. (6)'s 2 pi (1 - (sqrt3/3)^(n+1)) / (n+1), or the conclusion's
+    /// 2 pi/(n+1) (1 - ((sqrt3/3)^(n+1) + (sqrt2/2)^(n+1)) / 2) when refined.
+    static double lobeNormalisation(double n, bool refined);
+    /// Every direction of one full estimate (all weights, including negative specular ones below the
+    /// horizon), as printed; sample() keeps those a render can use.
+    void allDirections(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const;
+
+private:
+    int nPrime_;
+    bool refined_;
+};
+
+/// `symmetric` and `symmetric-shifted`: the corrected estimator. For each of N' points (u,v):
+///  - 16 diffuse-part directions, one in each piece T_i, Q_i, from the exact projected-solid-angle maps
+///    (the same (u,v) moved into each octant by the signed permutations, or shifted per copy), and
+///  - when the material has a specular lobe, 8 directions in the triangles rotated onto the mirror
+///    direction (lobe-shaped map of T_0, the same (u,v), symmetry, R_X(theta_s)).
+/// Both techniques are combined by the balance heuristic: every direction is weighted by
+///   f(wo,wi) cos(theta_i) / d(wi),   d = N' (d_D + d_S),
+/// d_D the 16 diffuse pieces' density at wi (cos/Phi_T or cos/Phi_Q) and d_S the rotated triangles'
+/// (zero outside them). d_D covers the whole hemisphere, so the lobe outside the rotated face is still
+/// estimated, and the estimator is unbiased; below-horizon directions carry f = 0. d is the misPdf.
+/// Shifted: copy i uses (frac(u + p(i)/8), frac(v + i/8)), p(i) = 3i mod 8, quadrangles a further half
+/// stratum (+1/16, +1/16), so the 8 copies form a Latin hypercube instead of sharing one elevation.
+/// At deeper bounces: one of the 16 (+8) pieces, chosen uniformly, one direction in it; weight
+/// f cos / (d_1 / P) with d_1 the N' = 1 density and P the number of pieces.
+class SymmetricEstimator final : public Estimator {
+public:
+    SymmetricEstimator(int nPrime, bool shifted) : nPrime_(nPrime), shifted_(shifted) {}
+    std::string_view name() const override { return shifted_ ? "symmetric-shifted" : "symmetric"; }
+    void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
+    double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
+
+    /// d_D + d_S at wi for one point per piece (N' = 1).
+    static double setDensity(const ShadingContext& ctx, const separation::LobeFrame& lobe, const Vec3& wi);
+    /// The (u,v) used by copy `k` of a piece kind, from the shared point p.
+    Point2 copyPoint(Point2 p, int k, separation::PieceKind kind) const;
+
+private:
+    int nPrime_;
+    bool shifted_;
+};
+
+}  // namespace symphong
