@@ -2,17 +2,22 @@
 
 #include "accel/accel.h"
 #include "estimators/estimator.h"
+#include "io/files.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "render/progress.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "study/furnace.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 namespace symphong {
 
@@ -33,7 +38,23 @@ struct RenderOptions {
     double exposure = 1.0;
     bool exrHalf = false;
     bool noNee = false;
+    EstimatorOptions estimatorOptions;
 };
+
+void addEstimatorOptions(CLI::App* cmd, EstimatorOptions& o) {
+    cmd->add_option("--symmetric-n", o.symmetricN, "N': (u,v) points per piece for paper, symmetric, symmetric-shifted")
+        ->check(CLI::Range(1, 4096))
+        ->capture_default_str();
+    cmd->add_flag("--paper-refined", o.paperRefined, "paper: use the conclusion's finer lobe normalisation instead of Eq. (6)'s");
+}
+
+std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const EstimatorOptions& options) {
+    try {
+        return makeEstimator(name, options);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(fmt::format("--estimator: {}", e.what()));
+    }
+}
 
 void addRenderCommand(CLI::App& app, RenderOptions& o) {
     CLI::App* r = app.add_subcommand("render", "Render a scene to a PNG or OpenEXR image with the path tracer.");
@@ -59,19 +80,14 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
         ->capture_default_str();
     r->add_flag("--exr-half", o.exrHalf, "write EXR as 16-bit half instead of 32-bit float");
     r->add_flag("--no-nee", o.noNee, "no light sampling: emitters are found only by the estimator's directions");
+    addEstimatorOptions(r, o.estimatorOptions);
 }
 
 int runRender(const RenderOptions& o) {
     if (static_cast<long>(o.width) * o.height > kMaxPixels)
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxPixels));
     if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
-    const auto estimator = [&] {
-        try {
-            return makeEstimator(o.estimator);
-        } catch (const std::invalid_argument& e) {
-            throw InputError(fmt::format("--estimator: {}", e.what()));
-        }
-    }();
+    const auto estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
     Scene scene = loadScene(o.scene);
     for (const std::string& w : scene.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
     const std::string output = o.output.empty() ? fmt::format("out/{}.png", scene.name) : o.output;
@@ -105,6 +121,119 @@ int runRender(const RenderOptions& o) {
     return 0;
 }
 
+struct FurnaceOptions {
+    std::string estimators = "all";
+    std::string environments = "constant";
+    std::vector<double> exponents = {10};
+    std::vector<double> thetas = {30};
+    double rhoD = 0.3, rhoS = 0.6, phi = 0;
+    int repeats = 10000;
+    std::uint64_t seed = 1;
+    int directions = 16;
+    bool grid = false;
+    std::string json;
+    EstimatorOptions estimatorOptions;
+    EnvironmentParams env;
+};
+
+void addFurnaceCommand(CLI::App& app, FurnaceOptions& o) {
+    CLI::App* f = app.add_subcommand("furnace", "Measure reflected-radiance estimators at one shading point against exact values.");
+    f->footer(
+        "Evaluates each estimator M times at one shading point (grey Phong material, view angle THETA from the normal,\n"
+        "azimuth PHI) under an incoming radiance whose reflected value is known exactly, and prints the mean, its\n"
+        "standard error, the exact value, the relative bias and its z-score, the variance of one estimate, the\n"
+        "variance per direction (var x directions: estimators compared at an equal number of directions), the\n"
+        "time per estimate and the efficiency 1/(var x time). One estimate is one call of a set-returning estimator\n"
+        "(paper, symmetric*) or the mean of --directions calls of the others (stratified stratifies them).\n"
+        "Environments: constant (L = 1), gradient (quadratic sky), disk (small disk light), band (horizon band),\n"
+        "halfspace. --grid runs n in {1,10,100,1000,10000} x theta in {0,30,60,85}.");
+    f->add_option("--estimator,-e", o.estimators, "estimators, comma-separated, or all")->capture_default_str();
+    f->add_option("--environment", o.environments, "environments, comma-separated, or all")->capture_default_str();
+    f->add_option("--rho-d", o.rhoD, "diffuse albedo")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    f->add_option("--rho-s", o.rhoS, "specular albedo")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    f->add_option("--n", o.exponents, "Phong exponents")->delimiter(',')->check(CLI::Range(0.0, 1e6))->capture_default_str();
+    f->add_option("--theta", o.thetas, "view angles from the normal, degrees")->delimiter(',')->check(CLI::Range(0.0, 89.9))->capture_default_str();
+    f->add_option("--phi", o.phi, "view azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
+    f->add_option("--repeats,-M", o.repeats, "independent estimates")->check(CLI::Range(2, 100000000))->capture_default_str();
+    f->add_option("--seed", o.seed, "random seed")->capture_default_str();
+    f->add_option("--directions", o.directions, "calls per estimate for one-direction estimators")->check(CLI::Range(1, 1000000))->capture_default_str();
+    f->add_option("--disk-theta", o.env.diskTheta, "disk light: polar angle, degrees")->check(CLI::Range(0.0, 180.0))->capture_default_str();
+    f->add_option("--disk-phi", o.env.diskPhi, "disk light: azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
+    f->add_option("--disk-radius", o.env.diskRadius, "disk light: angular radius, degrees")->check(CLI::Range(0.01, 89.9))->capture_default_str();
+    f->add_option("--band", o.env.bandDegrees, "horizon band height, degrees")->check(CLI::Range(0.01, 90.0))->capture_default_str();
+    f->add_flag("--grid", o.grid, "n in {1,10,100,1000,10000} x theta in {0,30,60,85}");
+    f->add_option("--json", o.json, "also write the results as JSON to this file");
+    addEstimatorOptions(f, o.estimatorOptions);
+}
+
+std::vector<std::string> splitList(const std::string& text, const std::vector<std::string>& all, const char* what) {
+    if (text == "all") return all;
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const auto comma = text.find(',', start);
+        std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (std::find(all.begin(), all.end(), item) == all.end())
+            throw InputError(fmt::format("{}: unknown name '{}' (valid: {}, or all)", what, item, fmt::join(all, ", ")));
+        out.push_back(item);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
+
+nlohmann::json toJson(const FurnaceResult& r) {
+    return {{"estimator", r.estimator}, {"environment", r.environment}, {"rho_d", r.rhoD}, {"rho_s", r.rhoS},
+            {"n", r.n}, {"theta_deg", r.thetaDeg}, {"repeats", r.repeats}, {"estimate", r.estimate},
+            {"std_error", r.stdError}, {"exact", r.exact}, {"relative_bias", r.relativeBias},
+            {"z", std::isfinite(r.z) ? nlohmann::json(r.z) : nlohmann::json(nullptr)}, {"variance", r.variance},
+            {"directions_per_estimate", r.directionsPerEstimate}, {"variance_times_directions", r.varianceTimesDirections},
+            {"seconds_per_estimate", r.secondsPerEstimate},
+            {"efficiency", std::isfinite(r.efficiency) ? nlohmann::json(r.efficiency) : nlohmann::json(nullptr)}};
+}
+
+int runFurnaceCommand(const FurnaceOptions& o) {
+    const auto estimators = splitList(o.estimators, estimatorNames(), "--estimator");
+    const auto environments = splitList(o.environments, environmentNames(), "--environment");
+    for (const auto& e : estimators) estimatorOrInputError(e, o.estimatorOptions);
+    const std::vector<double> exponents = o.grid ? std::vector<double>{1, 10, 100, 1000, 10000} : o.exponents;
+    const std::vector<double> thetas = o.grid ? std::vector<double>{0, 30, 60, 85} : o.thetas;
+    if (!o.json.empty()) {
+        if (std::filesystem::is_directory(o.json)) throw InputError(fmt::format("--json {}: is a directory", o.json));
+        writeTextFile(o.json, "");  // fails now, not after the run, if it cannot be written
+    }
+    fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  (one-direction estimators: {} calls per estimate)\n", o.rhoD, o.rhoS,
+               o.repeats, o.seed, o.directions);
+    fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6} {:>11} {:>10} {:>11} {:>9} {:>8} {:>10} {:>10} {:>9} {:>10}\n", "estimator",
+               "environmt", "n", "theta", "dirs", "estimate", "std.err", "exact", "rel.bias", "z", "var(1 est)", "var x dirs",
+               "us/est", "efficiency");
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& envName : environments) {
+        Environment env;
+        try {
+            env = makeEnvironment(envName, o.env);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(e.what());
+        }
+        for (double n : exponents)
+            for (double theta : thetas)
+                for (const auto& est : estimators) {
+                    FurnaceSetup setup;
+                    setup.estimator = est;
+                    setup.options = o.estimatorOptions;
+                    setup.rhoD = o.rhoD, setup.rhoS = o.rhoS, setup.n = n, setup.thetaDeg = theta, setup.phiDeg = o.phi;
+                    setup.repeats = o.repeats, setup.seed = o.seed, setup.directions = o.directions;
+                    const FurnaceResult r = runFurnace(setup, env);
+                    fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6.1f} {:>11.6f} {:>10.2e} {:>11.6f} {:>+8.2f}% {:>8.2f} {:>10.3e} {:>10.3e} {:>9.3f} {:>10.3e}\n",
+                               est, envName, n, theta, r.directionsPerEstimate, r.estimate, r.stdError, r.exact, 100 * r.relativeBias,
+                               r.z, r.variance, r.varianceTimesDirections, 1e6 * r.secondsPerEstimate, r.efficiency);
+                    rows.push_back(toJson(r));
+                }
+    }
+    if (!o.json.empty()) writeTextFile(o.json, rows.dump(2) + "\n");
+    return 0;
+}
+
 }  // namespace
 
 int runCli(int argc, const char* const* argv) {
@@ -112,6 +241,8 @@ int runCli(int argc, const char* const* argv) {
     app.require_subcommand(1);
     RenderOptions renderOptions;
     addRenderCommand(app, renderOptions);
+    FurnaceOptions furnaceOptions;
+    addFurnaceCommand(app, furnaceOptions);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -124,6 +255,7 @@ int runCli(int argc, const char* const* argv) {
     }
     try {
         if (app.got_subcommand("render")) return runRender(renderOptions);
+        if (app.got_subcommand("furnace")) return runFurnaceCommand(furnaceOptions);
     } catch (const InputError& e) {
         fmt::print(stderr, "symphong: error: {}\n", e.what());
         return kBadInput;

@@ -50,6 +50,10 @@ public:
     /// Whether the path tracer may combine this estimator with light sampling by MIS. An estimator
     /// without a density (the paper's, as printed) must account for all reflected light itself.
     virtual bool combinesWithLightSampling() const { return true; }
+
+    /// Whether a call with ctx.branch returns a whole set of directions (the symmetric estimators), so
+    /// that one call is one estimate; otherwise a call returns at most one direction.
+    virtual bool returnsSets() const { return false; }
 };
 
 /// Settings that only some estimators read.

@@ -25,6 +25,7 @@ public:
     void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
     double misPdf(const ShadingContext&, const Vec3&) const override { return 0.0; }
     bool combinesWithLightSampling() const override { return false; }
+    bool returnsSets() const override { return true; }
 
     /// The specular normalisation: Eq. (6)'s 2 pi (1 - (sqrt3/3)^(n+1)) / (n+1), or the conclusion's
     /// 2 pi/(n+1) (1 - ((sqrt3/3)^(n+1) + (sqrt2/2)^(n+1)) / 2) when refined.
@@ -58,6 +59,7 @@ public:
     std::string_view name() const override { return shifted_ ? "symmetric-shifted" : "symmetric"; }
     void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
+    bool returnsSets() const override { return true; }
 
     /// d_D + d_S at wi for one point per piece (N' = 1).
     static double setDensity(const ShadingContext& ctx, const separation::LobeFrame& lobe, const Vec3& wi);

@@ -1,5 +1,6 @@
 #include "io/image.h"
 
+#include "io/files.h"
 #include "io/input_error.h"
 
 #include <ImfArray.h>
@@ -30,28 +31,6 @@ ImageFormat imageFormatFor(const std::string& path) {
     throw InputError(fmt::format("{}: output must end in .png or .exr", path));
 }
 
-namespace {
-
-std::string tempPathFor(const std::string& path) {
-    const fs::path p(path);
-    return (p.parent_path() / fmt::format(".{}.tmp-{}", p.filename().string(), ::getpid())).string();
-}
-
-/// Runs write(tmp), then renames tmp onto path; removes tmp if anything fails.
-void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
-    const std::string tmp = tempPathFor(path);
-    try {
-        write(tmp);
-        fs::rename(tmp, path);
-    } catch (const std::exception& e) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw InputError(fmt::format("{}: cannot write image: {}", path, e.what()));
-    }
-}
-
-}  // namespace
-
 void checkWritable(const std::string& path) {
     imageFormatFor(path);
     const fs::path p(path);
@@ -61,7 +40,7 @@ void checkWritable(const std::string& path) {
         fs::create_directories(p.parent_path(), ec);
         if (ec) throw InputError(fmt::format("{}: cannot create directory {}: {}", path, p.parent_path().string(), ec.message()));
     }
-    const std::string tmp = tempPathFor(path);
+    const std::string tmp = temporaryPathFor(path);
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) throw InputError(fmt::format("{}: cannot create a file in {}", path, p.parent_path().empty() ? "." : p.parent_path().string()));
     std::fclose(f);

@@ -16,7 +16,4 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-/// Reads a whole file; throws InputError naming the path when it is missing or unreadable.
-std::string readTextFile(const std::string& path);
-
 }  // namespace symphong

@@ -1,6 +1,7 @@
 // JSON scene files: an OBJ (or the built-in Cornell box) plus a camera, material overrides and an
 // environment radiance. The format is documented in docs/scene-format.md. Unknown keys are errors, so
 // a typo never silently falls back to a default.
+#include "io/files.h"
 #include "io/input_error.h"
 #include "scene/scene.h"
 

@@ -1,6 +1,7 @@
 // Wavefront OBJ/MTL loading. tinyobjloader does the parsing; before it runs, a line-by-line pass over
 // the OBJ (and its MTL) rejects what tinyobjloader would accept silently or report without a line:
 // non-finite numbers, faces with fewer than 3 vertices, indices of 0 or out of range.
+#include "io/files.h"
 #include "io/input_error.h"
 #include "scene/scene.h"
 

@@ -1,0 +1,54 @@
+#include "io/files.h"
+
+#include "io/input_error.h"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+namespace symphong {
+
+std::string readTextFile(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(fmt::format("{}: no such file", path));
+    if (std::filesystem::is_directory(path, ec)) throw InputError(fmt::format("{}: is a directory, not a file", path));
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw InputError(fmt::format("{}: read error", path));
+    return ss.str();
+}
+
+std::string temporaryPathFor(const std::string& path) {
+    const std::filesystem::path p(path);
+    return (p.parent_path() / fmt::format(".{}.tmp-{}", p.filename().string(), ::getpid())).string();
+}
+
+void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+    const std::string tmp = temporaryPathFor(path);
+    try {
+        write(tmp);
+        std::filesystem::rename(tmp, path);
+    } catch (const std::exception& e) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw InputError(fmt::format("{}: cannot write: {}", path, e.what()));
+    }
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+    writeAtomically(path, [&](const std::string& tmp) {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) throw std::runtime_error("write failed");
+    });
+}
+
+}  // namespace symphong

@@ -1,0 +1,23 @@
+// io/files.h — reading text files and writing any file atomically (a temporary file beside the target,
+// renamed into place), so the target is either complete or untouched.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace symphong {
+
+/// Reads a whole file; throws InputError naming the path when it is missing or unreadable.
+std::string readTextFile(const std::string& path);
+
+/// The temporary path writeAtomically uses for `path`: a hidden file in the same directory.
+std::string temporaryPathFor(const std::string& path);
+
+/// Runs write(tmp) for a temporary path in the target's directory, then renames it onto `path`; on any
+/// failure removes the temporary file and throws InputError naming `path`.
+void writeAtomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);
+
+/// writeAtomically for a text.
+void writeTextFile(const std::string& path, const std::string& text);
+
+}  // namespace symphong
