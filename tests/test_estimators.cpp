@@ -86,19 +86,22 @@ TEST_P(EstimatorFurnace, WeightsAreBrdfCosineOverTheReportedDensity) {
     m.rhoS = Color(0.5);
     m.exponent = 20;
     std::vector<DirectionSample> out;
-    for (int k = 0; k < 5000; ++k) {
-        const Vec3 wo = sampleUniformHemisphere(rng.uniform2());
-        const ShadingContext ctx{wo, &m, 1, 0, 1};
-        out.clear();
-        estimator->sample(ctx, rng, out);
-        ASSERT_LE(out.size(), 1u) << "without branching an estimator returns at most one direction";
-        for (const auto& s : out) {
-            ASSERT_GT(s.wi.z, 0);
-            const Color f = evalPhong(m, wo, s.wi);
-            EXPECT_NEAR(s.weight.x * s.misPdf, f.x * s.wi.z, 1e-9 * f.x * s.wi.z);
-            EXPECT_NEAR(estimator->misPdf(ctx, s.wi), s.misPdf, 1e-12 * s.misPdf);
+    for (bool branch : {false, true})
+        for (int k = 0; k < 2000; ++k) {
+            const Vec3 wo = sampleUniformHemisphere(rng.uniform2());
+            const ShadingContext ctx{wo, &m, branch ? 0 : 1, 0, 1, branch};
+            out.clear();
+            estimator->sample(ctx, rng, out);
+            if (!branch || !estimator->returnsSets()) {
+                ASSERT_LE(out.size(), 1u) << "without a set an estimator returns at most one direction";
+            }
+            for (const auto& s : out) {
+                ASSERT_GT(s.wi.z, 0);
+                const Color f = evalPhong(m, wo, s.wi);
+                EXPECT_NEAR(s.weight.x * s.misPdf, f.x * s.wi.z, 1e-9 * f.x * s.wi.z);
+                EXPECT_NEAR(estimator->misPdf(ctx, s.wi), s.misPdf, 1e-12 * s.misPdf);
+            }
         }
-    }
 }
 
 TEST(EstimatorRegistry, UnknownNameListsTheValidOnes) {

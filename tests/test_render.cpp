@@ -108,6 +108,17 @@ TEST_F(CornellAgreement, WithoutLightSamplingTheImageIsTheSame) {
     EXPECT_LT(z, 4.0) << "no NEE vs NEE: |z| = " << z << " at " << where;
 }
 
+// The paper's estimator, as printed, renders a measurably darker box (its diffuse part is 14x low).
+TEST_F(CornellAgreement, PaperImageIsMeasurablyBiased) {
+    const RenderResult r = test::renderTiny(*scene_, "paper", 32, 16, 11);
+    std::string where;
+    const double z = worstZ(r, *reference_, where);
+    const auto paper = blockMean(r, 0, 0, 32, 32), ref = blockMean(*reference_, 0, 0, 32, 32);
+    std::printf("paper vs phong: largest |z| = %.1f (%s); image mean %.4f vs %.4f\n", z, where.c_str(), paper.mean, ref.mean);
+    EXPECT_GT(z, 10.0);
+    EXPECT_LT(paper.mean, 0.8 * ref.mean);
+}
+
 // The comparison above must be able to fail: a 5% brighter image is caught.
 TEST_F(CornellAgreement, ComparisonDetectsAFivePercentBias) {
     RenderResult brighter = test::renderTiny(*scene_, "cosine", 32, 256, 8);
