@@ -24,13 +24,9 @@ void BM_PhongLobe(benchmark::State& s) {
 }
 void BM_UniformTriangle(benchmark::State& s) { warpLoop(s, sampleUniformTriangle); }
 
-void BM_Estimator(benchmark::State& state, const std::string& name) {
+void estimatorLoop(benchmark::State& state, const std::string& name, const PhongMaterial& m) {
     const auto est = makeEstimator(name);
-    PhongMaterial m;
-    m.rhoD = Color(0.3);
-    m.rhoS = Color(0.6);
-    m.exponent = 50;
-    const ShadingContext ctx{normalize(Vec3(0.3, 0.2, 0.9)), &m, 0, 3, 16};
+    const ShadingContext ctx{normalize(Vec3(0.3, 0.2, 0.9)), &m, 0, 3, 16, true};
     Rng rng(3, 4);
     std::vector<DirectionSample> out;
     std::size_t directions = 0;
@@ -43,6 +39,22 @@ void BM_Estimator(benchmark::State& state, const std::string& name) {
     state.counters["directions/s"] = benchmark::Counter(static_cast<double>(directions), benchmark::Counter::kIsRate);
 }
 
+/// A glossy material (rho_d 0.3, rho_s 0.6, n 50): the symmetric estimators return 16 + 8 directions.
+void BM_Estimator(benchmark::State& state, const std::string& name) {
+    PhongMaterial m;
+    m.rhoD = Color(0.3);
+    m.rhoS = Color(0.6);
+    m.exponent = 50;
+    estimatorLoop(state, name, m);
+}
+
+/// A diffuse material: the symmetric estimators return their 16 pieces, reused by sign flips.
+void BM_DiffuseOnly(benchmark::State& state, const std::string& name) {
+    PhongMaterial m;
+    m.rhoD = Color(0.7);
+    estimatorLoop(state, name, m);
+}
+
 }  // namespace
 
 BENCHMARK(BM_UniformHemisphere);
@@ -53,3 +65,9 @@ BENCHMARK_CAPTURE(BM_Estimator, uniform, std::string("uniform"));
 BENCHMARK_CAPTURE(BM_Estimator, cosine, std::string("cosine"));
 BENCHMARK_CAPTURE(BM_Estimator, stratified, std::string("stratified"));
 BENCHMARK_CAPTURE(BM_Estimator, phong, std::string("phong"));
+BENCHMARK_CAPTURE(BM_Estimator, paper, std::string("paper"));
+BENCHMARK_CAPTURE(BM_Estimator, symmetric, std::string("symmetric"));
+BENCHMARK_CAPTURE(BM_Estimator, symmetric_shifted, std::string("symmetric-shifted"));
+BENCHMARK_CAPTURE(BM_DiffuseOnly, cosine, std::string("cosine"));
+BENCHMARK_CAPTURE(BM_DiffuseOnly, symmetric, std::string("symmetric"));
+BENCHMARK_CAPTURE(BM_DiffuseOnly, symmetric_shifted, std::string("symmetric-shifted"));

@@ -151,3 +151,38 @@ TEST_F(Cli, RendersEverySharedSceneThatIsNotMalformed) {
         }
     }
 }
+
+TEST_F(Cli, RendersWithTheSymmetricEstimators) {
+    for (const char* e : {"symmetric", "symmetric-shifted", "paper"}) {
+        const CliRun r = runArgs({"render", "-e", e, "--symmetric-n", "2", "--spp", "1", "-W", "8", "-H", "8", "-o", out(std::string(e) + ".png")});
+        EXPECT_EQ(r.code, 0) << e << ": " << r.err;
+    }
+    expectBadInput({"render", "-e", "symmetric", "--symmetric-n", "0", "-o", out("a.png")}, "--symmetric-n");
+}
+
+TEST_F(Cli, FurnacePrintsATableAndWritesJson) {
+    const CliRun r = runArgs({"furnace", "-e", "cosine,symmetric", "--environment", "constant,disk", "--n", "1,100", "--theta", "0,60",
+                              "-M", "200", "--json", out("f.json")});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("symmetric"), std::string::npos);
+    EXPECT_NE(r.out.find("var x dirs"), std::string::npos);
+    std::ifstream in(out("f.json"));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string json = ss.str();
+    std::size_t rows = 0;
+    for (std::size_t p = json.find("\"estimator\""); p != std::string::npos; p = json.find("\"estimator\"", p + 1)) ++rows;
+    EXPECT_EQ(rows, 2u * 2 * 2 * 2);
+    for (const char* key : {"\"exact\"", "\"relative_bias\"", "\"z\"", "\"variance_times_directions\"", "\"seconds_per_estimate\""})
+        EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
+TEST_F(Cli, FurnaceRejectsBadInput) {
+    expectBadInput({"furnace", "-e", "cosin"}, "unknown name 'cosin'");
+    expectBadInput({"furnace", "--environment", "sky"}, "unknown name 'sky'");
+    expectBadInput({"furnace", "--n", "-1"}, "--n");
+    expectBadInput({"furnace", "--theta", "90"}, "--theta");
+    expectBadInput({"furnace", "--rho-d", "1.5"}, "--rho-d");
+    expectBadInput({"furnace", "-M", "1"}, "--repeats");
+    expectBadInput({"furnace", "-M", "10", "--json", out("nodir/x/") }, "x");
+}

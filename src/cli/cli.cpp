@@ -208,6 +208,7 @@ int runFurnaceCommand(const FurnaceOptions& o) {
                "environmt", "n", "theta", "dirs", "estimate", "std.err", "exact", "rel.bias", "z", "var(1 est)", "var x dirs",
                "us/est", "efficiency");
     nlohmann::json rows = nlohmann::json::array();
+    std::uint64_t cell = 0;  // every row gets its own random stream, so rows are independent
     for (const auto& envName : environments) {
         Environment env;
         try {
@@ -222,7 +223,7 @@ int runFurnaceCommand(const FurnaceOptions& o) {
                     setup.estimator = est;
                     setup.options = o.estimatorOptions;
                     setup.rhoD = o.rhoD, setup.rhoS = o.rhoS, setup.n = n, setup.thetaDeg = theta, setup.phiDeg = o.phi;
-                    setup.repeats = o.repeats, setup.seed = o.seed, setup.directions = o.directions;
+                    setup.repeats = o.repeats, setup.seed = mixSeed(o.seed, cell++), setup.directions = o.directions;
                     const FurnaceResult r = runFurnace(setup, env);
                     fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6.1f} {:>11.6f} {:>10.2e} {:>11.6f} {:>+8.2f}% {:>8.2f} {:>10.3e} {:>10.3e} {:>9.3f} {:>10.3e}\n",
                                est, envName, n, theta, r.directionsPerEstimate, r.estimate, r.stdError, r.exact, 100 * r.relativeBias,

@@ -75,17 +75,15 @@ Vec3 quadrangleMap(Point2 p) {
 
 namespace {
 
-/// c(phi) = 1 - (cos^2 phi / (1 + cos^2 phi))^((n+1)/2): the lobe's share inside the triangle at phi.
-double lobeEdgeMass(double phi, double n) {
-    const double c2 = std::cos(phi) * std::cos(phi);
-    return -std::expm1(0.5 * (n + 1.0) * std::log(c2 / (1.0 + c2)));
-}
+/// c(phi) = 1 - (cos^2 phi / (1 + cos^2 phi))^((n+1)/2): the lobe's share inside the triangle at phi,
+/// from c2 = cos^2(phi).
+double lobeEdgeMass(double c2, double n) { return -std::expm1(0.5 * (n + 1.0) * std::log(c2 / (1.0 + c2))); }
 
 }  // namespace
 
 Vec3 lobeTriangleMap(Point2 p, double n) {
     const double phi = p.u * kPi / 4.0;
-    const double c = lobeEdgeMass(phi, n);
+    const double c = lobeEdgeMass(std::cos(phi) * std::cos(phi), n);
     // s^2 = (1 - v c)^(-2/(n+1)) - 1, written with log1p/expm1 so large n keeps its precision.
     const double s2 = std::expm1(-2.0 / (n + 1.0) * std::log1p(-p.v * c));
     const double s = std::sqrt(std::max(0.0, s2));
@@ -95,8 +93,9 @@ Vec3 lobeTriangleMap(Point2 p, double n) {
 
 double lobeTriangleDensity(const Vec3& w, double n) {
     if (w.z <= 0) return 0.0;
-    const double phi = std::atan2(w.y, w.x);
-    return 4.0 / kPi * (n + 1.0) * std::pow(w.z, n) / lobeEdgeMass(phi, n);
+    const double h2 = w.x * w.x + w.y * w.y;
+    const double c2 = h2 > 0 ? w.x * w.x / h2 : 1.0;  // cos^2(phi) without trigonometry
+    return 4.0 / kPi * (n + 1.0) * std::pow(w.z, n) / lobeEdgeMass(c2, n);
 }
 
 LobeFrame LobeFrame::fromMirror(const Vec3& r) {
