@@ -121,3 +121,32 @@ INSTANTIATE_TEST_SUITE_P(AllUnbiasedEstimators, EstimatorFurnace, ::testing::Val
                              std::replace(n.begin(), n.end(), '-', '_');
                              return n;
                          });
+
+// At deeper bounces `paper` keeps one of its directions: the same expectation as the whole set.
+TEST(PaperEstimator, OneDirectionHasTheSameMeanAsTheWholeSet) {
+    const auto paper = makeEstimator("paper", EstimatorOptions{2, false});
+    PhongMaterial m;
+    m.rhoD = Color(0.5);
+    m.rhoS = Color(0.4);
+    m.exponent = 20;
+    const Vec3 wo = sphericalDirection(std::cos(0.5), 0.3);
+    Rng rng(31, 31);
+    std::vector<DirectionSample> out;
+    for (bool branch : {true, false}) {
+        std::vector<double> v(branch ? 50000 : 2000000);
+        for (double& x : v) {
+            out.clear();
+            paper->sample(ShadingContext{wo, &m, branch ? 0 : 1, 0, 1, branch}, rng, out);
+            x = 0;
+            for (const auto& s : out) x += s.weight.x;
+        }
+        const auto s = test::meanAndError(v);
+        static double whole = 0, wholeSe = 0;
+        if (branch) {
+            whole = s.mean;
+            wholeSe = s.stdError;
+        } else {
+            EXPECT_NEAR(s.mean, whole, 4 * std::sqrt(s.stdError * s.stdError + wholeSe * wholeSe));
+        }
+    }
+}

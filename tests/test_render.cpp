@@ -108,6 +108,18 @@ TEST_F(CornellAgreement, WithoutLightSamplingTheImageIsTheSame) {
     EXPECT_LT(z, 4.0) << "no NEE vs NEE: |z| = " << z << " at " << where;
 }
 
+// The issue's own check: the corrected symmetric estimator against plain cosine sampling.
+TEST_F(CornellAgreement, SymmetricAgreesWithCosine) {
+    const RenderResult cosine = test::renderTiny(*scene_, "cosine", 32, 512, 21);
+    for (const char* name : {"symmetric", "symmetric-shifted"}) {
+        const RenderResult r = test::renderTiny(*scene_, name, 32, 64, 22);
+        std::string where;
+        const double z = worstZ(r, cosine, where);
+        std::printf("%s vs cosine: largest |z| = %.2f (%s)\n", name, z, where.c_str());
+        EXPECT_LT(z, 4.0) << name << " vs cosine at " << where;
+    }
+}
+
 // The paper's estimator, as printed, renders a measurably darker box (its diffuse part is 14x low).
 TEST_F(CornellAgreement, PaperImageIsMeasurablyBiased) {
     const RenderResult r = test::renderTiny(*scene_, "paper", 32, 16, 11);

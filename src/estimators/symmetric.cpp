@@ -57,12 +57,25 @@ void PaperEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<Dir
         allDirections(ctx, rng, out);
         return;
     }
-    std::vector<DirectionSample> all;
-    allDirections(ctx, rng, all);
-    const auto k = std::min(all.size() - 1, static_cast<std::size_t>(rng.uniform() * static_cast<double>(all.size())));
-    DirectionSample s = all[k];
-    s.weight *= static_cast<double>(all.size());
-    out.push_back(s);
+    // One of the K = 16(N'+1) + 8N' entries of allDirections, uniformly, its weight times K. The points
+    // are independent, so an entry's point is a fresh one: draw only the chosen direction.
+    const PhongMaterial& m = *ctx.material;
+    const bool specular = m.hasSpecular();
+    const double np = nPrime_;
+    const double tri = 8.0 * (np + 1.0), spec = specular ? 8.0 * np : 0.0, total = 2.0 * tri + spec;
+    const double pick = rng.uniform() * total;
+    const int k = std::min(7, static_cast<int>(rng.uniform() * 8.0));
+    const Point2 p = rng.uniform2();
+    const double w = paperWeight(p);
+    if (pick < tri) {
+        out.push_back({toOctant(paperTriangleMap(p), k), m.rhoD * (kInvPi * kPi / (48.0 * np) * 0.5 * w * total), 0.0});
+    } else if (pick < 2.0 * tri) {
+        out.push_back({toOctant(paperQuadrangleMap(p), k), m.rhoD * (kInvPi * kPi / (48.0 * np) * w * total), 0.0});
+    } else {
+        const Vec3 d = LobeFrame::fromMirror(mirrorOf(ctx.wo)).toLocal(toOctant(paperTriangleMap(p), k));
+        const double scale = lobeNormalisation(m.exponent, refined_) / (8.0 * np);
+        out.push_back({d, m.rhoS * ((m.exponent + 2.0) / kTwoPi * scale * d.z * total), 0.0});
+    }
 }
 
 // ---------------------------------------------------------------------------------------------------
