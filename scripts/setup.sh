@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets symphong up on Debian 12: installs the Debian packages it needs (only those missing, with
-# apt-get, as root or through sudo) and builds the Release preset into build/release.
+# apt-get, as root or through sudo; python3-matplotlib draws the plots of `symphong study`) and builds
+# the Release preset into build/release.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -9,6 +10,7 @@ packages=(
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libpcg-cpp-dev
   libgtest-dev libbenchmark-dev
+  python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -11,7 +12,19 @@ namespace symphong {
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
 
 ProgressBar::ProgressBar(const std::atomic<std::uint64_t>& counter, std::uint64_t total, std::string unit, bool enabled)
-    : counter_(counter), total_(total), unit_(std::move(unit)), enabled_(enabled) {
+    : done_([&counter] { return static_cast<double>(counter.load(std::memory_order_relaxed)); }),
+      total_(static_cast<double>(total)),
+      unit_(std::move(unit)),
+      enabled_(enabled) {
+    start();
+}
+
+ProgressBar::ProgressBar(std::function<double()> done, double total, std::function<std::string()> label, bool enabled)
+    : done_(std::move(done)), total_(total), label_(std::move(label)), enabled_(enabled) {
+    start();
+}
+
+void ProgressBar::start() {
     if (!enabled_) return;
     thread_ = std::thread([this] {
         const auto start = std::chrono::steady_clock::now();
@@ -45,16 +58,16 @@ std::string ProgressBar::formatCount(double v) {
 }
 
 void ProgressBar::draw(double elapsed, bool last) const {
-    const std::uint64_t done = std::min(counter_.load(std::memory_order_relaxed), total_);
-    const double frac = total_ ? static_cast<double>(done) / total_ : 1.0;
+    const double done = std::clamp(done_(), 0.0, total_);
+    const double frac = total_ > 0 ? done / total_ : 1.0;
     constexpr int kWidth = 30;
     const int filled = static_cast<int>(frac * kWidth);
     std::string bar(static_cast<std::size_t>(filled), '#');
     bar.resize(kWidth, '.');
     const double rate = elapsed > 0 ? done / elapsed : 0.0;
     const std::string eta = (done > 0 && done < total_) ? formatDuration(elapsed * (1.0 - frac) / frac) : "--";
-    fmt::print(stderr, "\r[{}] {:5.1f}%  elapsed {}  ETA {}  {}{}/s   ", bar, 100.0 * frac, formatDuration(elapsed), eta,
-               formatCount(rate), unit_);
+    const std::string tail = label_ ? label_() : formatCount(rate) + unit_ + "/s";
+    fmt::print(stderr, "\r[{}] {:5.1f}%  elapsed {}  ETA {}  {}   ", bar, 100.0 * frac, formatDuration(elapsed), eta, tail);
     if (last) fmt::print(stderr, "\n");
     std::fflush(stderr);
 }

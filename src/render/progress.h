@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <thread>
@@ -13,6 +14,9 @@ class ProgressBar {
 public:
     /// Starts drawing when `enabled`; `unit` names what the counter counts ("samples").
     ProgressBar(const std::atomic<std::uint64_t>& counter, std::uint64_t total, std::string unit, bool enabled);
+    /// A bar over any measure of work: `done()` out of `total`, with `label()` shown after the bar
+    /// instead of a rate.
+    ProgressBar(std::function<double()> done, double total, std::function<std::string()> label, bool enabled);
     ~ProgressBar();
     /// Draws the final state and stops the thread.
     void finish();
@@ -25,9 +29,12 @@ public:
 private:
     void draw(double elapsed, bool last) const;
 
-    const std::atomic<std::uint64_t>& counter_;
-    std::uint64_t total_;
+    void start();
+
+    std::function<double()> done_;
+    double total_;
     std::string unit_;
+    std::function<std::string()> label_;
     bool enabled_;
     std::atomic<bool> stop_{false};
     std::thread thread_;

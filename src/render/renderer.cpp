@@ -35,6 +35,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
     const std::uint32_t spp = settings.spp;
 
     const auto renderTile = [&](int tile) {
+        if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) return;
         const int tx = tile % tilesX, ty = tile / tilesX;
         TraceStats stats;
         PathScratch scratch;
@@ -75,6 +76,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
         tbb::parallel_for(0, tilesX * tilesY, [&](int tile) { renderTile(tile); });
     });
     result.stats.samples = static_cast<std::uint64_t>(settings.width) * settings.height * spp;
+    result.cancelled = settings.cancel && settings.cancel->load();
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

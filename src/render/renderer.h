@@ -17,6 +17,8 @@ struct RenderSettings {
     std::uint64_t seed = 1;
     int threads = 0;  ///< 0: all hardware threads
     TraceSettings trace;
+    /// When set and it becomes true, remaining tiles are skipped and the result is marked cancelled.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct RenderStats {
@@ -30,6 +32,7 @@ struct RenderResult {
     Image image;     ///< per-pixel mean radiance
     Image variance;  ///< per-pixel variance of that mean (sample variance / spp), per channel
     RenderStats stats;
+    bool cancelled = false;  ///< stopped early through RenderSettings::cancel: the image is incomplete
 };
 
 /// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image.

@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""Plots for `symphong study`: reads DIR/results.json (and the heat maps and renders beside it) and writes
+convergence_spp, convergence_time, efficiency, heatmaps and crops as PNG and SVG into DIR.
+
+symphong embeds this file and runs it with Debian's python3-matplotlib; it can also be run by hand:
+    python3 scripts/plot_study.py out/study
+"""
+import json
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+plt.rcParams.update({"svg.fonttype": "none", "svg.hashsalt": "symphong", "font.size": 9})
+
+STYLE = {
+    "uniform": ("#7f7f7f", "o"),
+    "cosine": ("#1f77b4", "o"),
+    "stratified": ("#17becf", "s"),
+    "phong": ("#2ca02c", "^"),
+    "paper": ("#d62728", "x"),
+    "symmetric": ("#9467bd", "D"),
+    "symmetric-shifted": ("#ff7f0e", "P"),
+}
+
+
+def style(name):
+    return STYLE.get(name, ("#333333", "."))
+
+
+def save(fig, out_dir, stem):
+    for ext in ("png", "svg"):
+        fig.savefig(os.path.join(out_dir, f"{stem}.{ext}"), dpi=130, bbox_inches="tight", metadata={"Date": None} if ext == "svg" else None)
+    plt.close(fig)
+
+
+def convergence(data, out_dir, x_key, stem, xlabel):
+    summary = data["summary"]
+    fig, ax = plt.subplots(figsize=(5.6, 4.0))
+    anchor = None
+    for est in data["config"]["estimators"]:
+        pts = sorted((s[x_key], s["rmse"], s["rmse_spread"]) for s in summary if s["estimator"] == est and s["rmse"] > 0)
+        if not pts:
+            continue
+        xs, ys, es = zip(*pts)
+        color, marker = style(est)
+        biased = any(s["bias_significant"] for s in summary if s["estimator"] == est)
+        label = est + (" (biased)" if biased else "")
+        ax.errorbar(xs, ys, yerr=es, color=color, marker=marker, ms=4, lw=1.4, capsize=2, label=label,
+                    ls="--" if biased else "-")
+        if est == "cosine" or anchor is None:  # the 1/sqrt(N) line starts at cosine's first point
+            anchor = (xs[0], ys[0])
+    if anchor:
+        xs = np.array([min(s[x_key] for s in summary), max(s[x_key] for s in summary)])
+        ax.plot(xs, anchor[1] * np.sqrt(anchor[0] / xs), color="black", lw=0.8, ls=":", label="slope 1/sqrt(N)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("RMSE of luminance vs reference")
+    ax.set_title(f"{data['config']['scene']}: RMSE against {xlabel.split(' (')[0]}")
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=7, frameon=False)
+    save(fig, out_dir, stem)
+
+
+def efficiency(data, out_dir):
+    summary = data["summary"]
+    top = max(data["config"]["spp"])
+    rows = [s for s in summary if s["spp"] == top]
+    base = next((s["efficiency"] for s in rows if s["estimator"] == "cosine"), None) or max(s["efficiency"] for s in rows)
+    fig, ax = plt.subplots(figsize=(5.6, 3.6))
+    names = [s["estimator"] for s in rows]
+    vals = [s["efficiency"] / base for s in rows]
+    for i, (s, v) in enumerate(zip(rows, vals)):
+        color, _ = style(s["estimator"])
+        ax.bar(i, v, color=color, hatch="//" if s["bias_significant"] else None, edgecolor="black", lw=0.5)
+        ax.text(i, v, f"{v:.2g}x", ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(range(len(names)))
+    ax.set_xticklabels([n + (" (biased)" if s["bias_significant"] else "") for n, s in zip(names, rows)], fontsize=7,
+                       rotation=25, ha="right")
+    ax.set_yscale("log")
+    ax.set_ylabel("efficiency 1/(MSE x time), relative to cosine")
+    ax.set_title(f"{data['config']['scene']}: efficiency at {top} spp")
+    ax.axhline(1.0, color="black", lw=0.6)
+    ax.grid(True, axis="y", which="both", alpha=0.25)
+    save(fig, out_dir, "efficiency")
+
+
+def heatmaps(data, out_dir):
+    hm = data["config"]["heatmap"]
+    w, h = hm["width"], hm["height"]
+    maps = {}
+    for est in data["config"]["estimators"]:
+        path = os.path.join(out_dir, "heatmaps", f"{est}.f32")
+        if os.path.exists(path):
+            maps[est] = np.fromfile(path, dtype="<f4").reshape(h, w)
+    if not maps:
+        return
+    vmax = float(np.percentile(np.concatenate([m.ravel() for m in maps.values()]), 99)) or 1.0
+    cols = min(3, len(maps))
+    rows = math.ceil(len(maps) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(2.6 * cols, 2.6 * rows + 0.4), squeeze=False)
+    im = None
+    for ax in axes.ravel():
+        ax.axis("off")
+    for ax, (est, m) in zip(axes.ravel(), maps.items()):
+        im = ax.imshow(m, cmap="inferno", vmin=0, vmax=vmax)
+        ax.set_title(f"{est}\nmean {m.mean():.3f}", fontsize=8)
+        single, sax = plt.subplots(figsize=(3, 3))
+        sax.imshow(m, cmap="inferno", vmin=0, vmax=vmax)
+        sax.axis("off")
+        sax.set_title(f"{est}, {hm['spp']} spp", fontsize=8)
+        single.savefig(os.path.join(out_dir, "heatmaps", f"{est}.png"), dpi=100, bbox_inches="tight")
+        plt.close(single)
+    fig.colorbar(im, ax=axes.ravel().tolist(), shrink=0.8, label="|Y - Y_ref| / (Y_ref + 0.01)")
+    fig.suptitle(f"Per-pixel relative error at {hm['spp']} spp (one render each)", fontsize=9)
+    save(fig, out_dir, "heatmaps")
+
+
+def crops(data, out_dir):
+    hm = data["config"]["heatmap"]
+    x, y, cw, ch = hm["crop"]
+    panels = [("reference", os.path.join(out_dir, "reference.png"))]
+    panels += [(est, os.path.join(out_dir, "renders", f"{est}.png")) for est in data["config"]["estimators"]]
+    panels = [(n, p) for n, p in panels if os.path.exists(p)]
+    if not panels:
+        return
+    fig, axes = plt.subplots(1, len(panels), figsize=(1.9 * len(panels), 2.3), squeeze=False)
+    for ax, (name, path) in zip(axes[0], panels):
+        img = mpimg.imread(path)
+        ax.imshow(img[y:y + ch, x:x + cw], interpolation="nearest")
+        ax.set_title(name, fontsize=7)
+        ax.axis("off")
+    fig.suptitle(f"Crops at {hm['spp']} spp: pixels ({x},{y}) to ({x + cw},{y + ch})", fontsize=8)
+    save(fig, out_dir, "crops")
+
+
+def main():
+    out_dir = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+    with open(os.path.join(out_dir, "results.json")) as f:
+        data = json.load(f)
+    convergence(data, out_dir, "spp", "convergence_spp", "samples per pixel (equal samples)")
+    convergence(data, out_dir, "seconds", "convergence_time", "render time in seconds (equal time)")
+    efficiency(data, out_dir)
+    heatmaps(data, out_dir)
+    crops(data, out_dir)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,519 @@
+#include "study/study.h"
+
+#include "accel/accel.h"
+#include "io/files.h"
+#include "io/image.h"
+#include "io/input_error.h"
+#include "render/progress.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+#include "study/metrics.h"
+#include "study/plot_script.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+
+namespace fs = std::filesystem;
+
+namespace symphong {
+
+const char* const kStudyCsvHeader =
+    "scene,estimator,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
+    "relative_bias,mse_raw,mse,rmse,relmse,efficiency,pixel_variance_within,group_relative_bias,"
+    "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance";
+
+std::string studyCsv(const std::vector<StudyRow>& rows) {
+    std::string out = std::string(kStudyCsvHeader) + "\n";
+    for (const StudyRow& r : rows)
+        out += fmt::format("{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g}\n",
+                           r.scene, r.estimator, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples, r.meanLuminance,
+                           r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.pixelVarianceWithin,
+                           r.groupRelativeBias, r.groupBiasStdError, r.groupBiasZ, r.groupBiasThreshold, r.groupBiasSignificant ? 1 : 0,
+                           r.groupPixelVariance);
+    return out;
+}
+
+std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
+    std::vector<StudySummary> out;
+    std::map<std::pair<std::string, std::uint32_t>, std::vector<const StudyRow*>> groups;
+    for (const StudyRow& r : rows) {
+        auto& g = groups[{r.estimator, r.spp}];
+        if (g.empty()) {
+            StudySummary s;
+            s.estimator = r.estimator;
+            s.spp = r.spp;
+            out.push_back(s);
+        }
+        g.push_back(&r);
+    }
+    for (StudySummary& s : out) {
+        const auto& g = groups[{s.estimator, s.spp}];
+        const double n = static_cast<double>(g.size());
+        std::vector<double> eff;
+        for (const StudyRow* r : g) {
+            s.seconds += r->seconds / n;
+            s.rmse += r->rmse / n;
+            s.mse += r->mse / n;
+            s.relMse += r->relMse / n;
+            s.rays += static_cast<double>(r->rays) / n;
+            eff.push_back(r->efficiency);
+        }
+        double spread = 0;
+        for (const StudyRow* r : g) spread += (r->rmse - s.rmse) * (r->rmse - s.rmse);
+        s.rmseSpread = g.size() > 1 ? std::sqrt(spread / (n - 1) / n) : 0.0;  // standard error of the mean RMSE
+        std::sort(eff.begin(), eff.end());
+        s.efficiency = eff.size() % 2 ? eff[eff.size() / 2] : 0.5 * (eff[eff.size() / 2 - 1] + eff[eff.size() / 2]);
+        s.relativeBias = g.front()->groupRelativeBias;
+        s.biasStdError = g.front()->groupBiasStdError;
+        s.biasZ = g.front()->groupBiasZ;
+        s.biasSignificant = g.front()->groupBiasSignificant;
+        s.pixelVariance = g.front()->groupPixelVariance;
+    }
+    return out;
+}
+
+namespace {
+
+const StudySummary* find(const std::vector<StudySummary>& s, const std::string& est, std::uint32_t spp) {
+    for (const auto& x : s)
+        if (x.estimator == est && x.spp == spp) return &x;
+    return nullptr;
+}
+
+std::string factor(double x) { return x >= 10 ? fmt::format("{:.0f}x", x) : fmt::format("{:.2g}x", x); }
+
+bool biasedAnywhere(const std::vector<StudySummary>& s, const std::string& est) {
+    for (const auto& x : s)
+        if (x.estimator == est && x.biasSignificant) return true;
+    return false;
+}
+
+}  // namespace
+
+std::string studyConclusion(const std::vector<StudySummary>& summary, const std::vector<std::uint32_t>& spps) {
+    if (summary.empty()) return "No results.";
+    std::uint32_t top = 0;
+    for (const auto& s : summary) top = std::max(top, s.spp);
+    std::vector<const StudySummary*> atTop;
+    for (const auto& s : summary)
+        if (s.spp == top) atTop.push_back(&s);
+    std::string text;
+    const StudySummary* best = nullptr;
+    for (const auto* s : atTop)
+        if (!biasedAnywhere(summary, s->estimator) && (!best || s->efficiency > best->efficiency)) best = s;
+    const StudySummary* cosine = find(summary, "cosine", top);
+    if (best) {
+        text += fmt::format("At {} spp the most efficient unbiased estimator is `{}`", top, best->estimator);
+        if (cosine && best != cosine) text += fmt::format(" ({} the efficiency of `cosine`)", factor(best->efficiency / cosine->efficiency));
+        text += ". ";
+    }
+    for (const char* sym : {"symmetric", "symmetric-shifted"}) {
+        const StudySummary* s = find(summary, sym, top);
+        if (!s) continue;
+        std::vector<std::string> parts;
+        for (const char* other : {"cosine", "stratified", "phong"})
+            if (const StudySummary* o = find(summary, other, top); o && o->efficiency > 0)
+                parts.push_back(fmt::format("{} `{}`'s", factor(s->efficiency / o->efficiency), other));
+        if (!parts.empty())
+            text += fmt::format("`{}` reaches {} efficiency (1/(MSE x time)); ", sym, fmt::join(parts, ", "));
+    }
+    std::vector<std::string> winners;
+    for (std::uint32_t spp : spps) {
+        const StudySummary* w = nullptr;
+        for (const auto& s : summary)
+            if (s.spp == spp && !biasedAnywhere(summary, s.estimator) && (!w || s.rmse < w->rmse)) w = &s;
+        if (w) winners.push_back(fmt::format("{} spp: `{}`", spp, w->estimator));
+    }
+    if (!winners.empty())
+        text += fmt::format("at equal samples per pixel, the lowest RMSE among unbiased estimators goes to {} (the symmetric "
+                            "estimators trace 16 to 24 paths per camera sample, so equal samples is not equal work). ",
+                            fmt::join(winners, ", "));
+    std::vector<std::string> biased;
+    for (const auto* s : atTop)
+        if (s->biasSignificant)
+            biased.push_back(fmt::format("`{}` ({:+.1f}% +- {:.1f}%, z = {:.0f})", s->estimator, 100 * s->relativeBias,
+                                         100 * s->biasStdError, s->biasZ));
+    if (!biased.empty())
+        text += fmt::format("Significantly biased against the reference (|z| > 4): {}; their error stops falling with more "
+                            "samples, so their efficiency means little.",
+                            fmt::join(biased, ", "));
+    else
+        text += "No estimator is significantly biased (|z| > 4) against the reference.";
+    return text;
+}
+
+namespace {
+
+std::string sceneFingerprint(const std::string& spec) {
+    if (spec == "cornell" || !fs::exists(spec)) return spec;
+    const std::string text = readTextFile(spec);
+    return fmt::format("{}:{:016x}", spec, std::hash<std::string>{}(text));
+}
+
+std::string findPython(const std::string& preferred) {
+    std::vector<std::string> candidates;
+    if (!preferred.empty()) candidates.push_back(preferred);
+    candidates.push_back("/usr/bin/python3");
+    candidates.push_back("python3");
+    for (const std::string& py : candidates) {
+        const std::string cmd = fmt::format("'{}' -c 'import matplotlib' >/dev/null 2>&1", py);
+        if (std::system(cmd.c_str()) == 0) return py;
+    }
+    return {};
+}
+
+nlohmann::json rowJson(const StudyRow& r) {
+    return {{"scene", r.scene}, {"estimator", r.estimator}, {"spp", r.spp}, {"repeat", r.repeat}, {"width", r.width},
+            {"height", r.height}, {"seconds", r.seconds}, {"rays", r.rays}, {"samples", r.samples},
+            {"mean_luminance", r.meanLuminance}, {"mean_luminance_std_error", r.meanStdError}, {"relative_bias", r.relativeBias},
+            {"mse_raw", r.mseRaw}, {"mse", r.mse}, {"rmse", r.rmse}, {"relmse", r.relMse}, {"efficiency", r.efficiency},
+            {"pixel_variance_within", r.pixelVarianceWithin}, {"group_relative_bias", r.groupRelativeBias},
+            {"group_bias_std_error", r.groupBiasStdError}, {"group_bias_z", r.groupBiasZ}, {"group_bias_threshold", r.groupBiasThreshold},
+            {"group_bias_significant", r.groupBiasSignificant}, {"group_pixel_variance", r.groupPixelVariance}};
+}
+
+nlohmann::json summaryJson(const StudySummary& s) {
+    return {{"estimator", s.estimator}, {"spp", s.spp}, {"seconds", s.seconds}, {"rays", s.rays}, {"rmse", s.rmse},
+            {"rmse_spread", s.rmseSpread}, {"mse", s.mse}, {"relmse", s.relMse}, {"efficiency", s.efficiency},
+            {"relative_bias", s.relativeBias}, {"bias_std_error", s.biasStdError}, {"bias_z", s.biasZ},
+            {"bias_significant", s.biasSignificant}, {"pixel_variance", s.pixelVariance}};
+}
+
+struct Crop {
+    int x, y, w, h;
+};
+
+std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, const std::vector<StudySummary>& summary,
+                           const std::string& conclusion, const std::string& referenceNote, bool plotted, std::uint32_t heatSpp,
+                           bool cancelled) {
+    std::string md = fmt::format("# Estimator study: {}\n\n", sceneName);
+    if (cancelled) md += "**Interrupted**: these are the rows finished before the study was stopped.\n\n";
+    md += fmt::format(
+        "Scene `{}`, {}x{} pixels, max depth {}, {} independent repeat(s) per estimator and sample count, seed {}. {}\n"
+        "Command: `symphong study {} --estimators {} --spp {} --repeats {} --width {} --height {}`.\n\n",
+        c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, referenceNote, c.scene, fmt::join(c.estimators, ","),
+        fmt::join(c.spps, ","), c.repeats, c.width, c.height);
+    md += "## Conclusion\n\n" + conclusion + "\n\n";
+    if (plotted) {
+        md += "## Convergence\n\n![RMSE against samples per pixel](convergence_spp.png)\n\n"
+              "![RMSE against render time](convergence_time.png)\n\n"
+              "## Efficiency\n\n![Efficiency relative to cosine](efficiency.png)\n\n";
+        md += fmt::format("## Where the error is ({} spp)\n\n![Per-pixel relative error](heatmaps.png)\n\n![Crops](crops.png)\n\n", heatSpp);
+    } else {
+        md += "Plots were not made (no python3 with matplotlib); run `python3 scripts/plot_study.py` on this folder.\n\n";
+    }
+    md += "## Equal samples\n\nMeans over the repeats; RMSE of luminance against the reference (its own noise removed), "
+          "relMSE = mean of (Y - Y_ref)^2 / (Y_ref^2 + 0.01), bias of the mean image with its standard error (flagged when "
+          "|z| > 4), efficiency 1/(MSE x time) as the median over repeats, relative to `cosine` at the same spp.\n\n"
+          "| estimator | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& s : summary) {
+        const StudySummary* cos = find(summary, "cosine", s.spp);
+        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} |\n", s.estimator, s.spp,
+                          s.seconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance, 100 * s.relativeBias, 100 * s.biasStdError,
+                          s.biasSignificant ? " **biased**" : "", cos && cos->efficiency > 0 ? factor(s.efficiency / cos->efficiency) : "-");
+    }
+    // Equal time: efficiency is about constant in spp for an unbiased estimator, so the MSE reachable in
+    // time T is about 1/(efficiency x T); T = cosine's time at the highest spp.
+    std::uint32_t top = 0;
+    for (const auto& s : summary) top = std::max(top, s.spp);
+    const StudySummary* ref = find(summary, "cosine", top);
+    if (!ref && !summary.empty()) ref = &summary.front();
+    if (ref && ref->seconds > 0) {
+        const double T = ref->seconds;
+        md += fmt::format("\n## Equal time\n\nRMSE each estimator would reach in {:.3g} s (the time `{}` took at {} spp), from its "
+                          "efficiency at the sample count whose time is closest: RMSE_T = sqrt(1/(efficiency x T)).\n\n"
+                          "| estimator | from spp | RMSE at {:.3g} s | vs `{}` |\n|---|---:|---:|---:|\n",
+                          T, ref->estimator, top, T, ref->estimator);
+        const double refRmse = std::sqrt(1.0 / (ref->efficiency * T));
+        for (const std::string& est : c.estimators) {
+            const StudySummary* bestFit = nullptr;
+            for (const auto& s : summary)
+                if (s.estimator == est && s.seconds > 0 && s.efficiency > 0 &&
+                    (!bestFit || std::abs(std::log(s.seconds / T)) < std::abs(std::log(bestFit->seconds / T))))
+                    bestFit = &s;
+            if (!bestFit) continue;
+            const double rmseT = std::sqrt(1.0 / (bestFit->efficiency * T));
+            md += fmt::format("| {}{} | {} | {:.4g} | {:.2f}x |\n", est, biasedAnywhere(summary, est) ? " (biased)" : "", bestFit->spp, rmseT,
+                              rmseT / refRmse);
+        }
+    }
+    md += "\nFiles: `results.csv` and `results.json` (one row per estimator x spp x repeat), `reference.exr` (+ `reference.json`), "
+          "`renders/`, `heatmaps/`.\n";
+    return md;
+}
+
+}  // namespace
+
+StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel, bool showProgress) {
+    StudyConfig c = config;
+    if (c.estimators.empty()) throw InputError("--estimators: the list is empty");
+    for (const auto& e : c.estimators) try {
+            makeEstimator(e, c.options);
+        } catch (const std::invalid_argument& err) {
+            throw InputError(fmt::format("--estimators: {}", err.what()));
+        }
+    try {
+        makeEstimator(c.referenceEstimator, c.options);
+    } catch (const std::invalid_argument& err) {
+        throw InputError(fmt::format("--reference-estimator: {}", err.what()));
+    }
+    if (c.referenceEstimator == "paper") throw InputError("--reference-estimator: 'paper' is biased; choose an unbiased estimator");
+    if (c.spps.empty()) throw InputError("--spp: the list is empty");
+    for (auto s : c.spps)
+        if (s == 0) throw InputError("--spp: sample counts must be at least 1");
+    std::sort(c.spps.begin(), c.spps.end());
+    c.spps.erase(std::unique(c.spps.begin(), c.spps.end()), c.spps.end());
+    if (c.repeats < 1) throw InputError(fmt::format("--repeats {} must be at least 1", c.repeats));
+    const std::uint32_t heatSpp = c.heatmapSpp ? c.heatmapSpp : c.spps[c.spps.size() / 2];
+    if (std::find(c.spps.begin(), c.spps.end(), heatSpp) == c.spps.end())
+        throw InputError(fmt::format("--heatmap-spp {} is not one of the --spp values", heatSpp));
+
+    Scene scene = loadScene(c.scene);
+    for (const std::string& w : scene.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
+    const fs::path dir(c.outDir);
+    std::error_code ec;
+    fs::create_directories(dir / "renders", ec);
+    fs::create_directories(dir / "heatmaps", ec);
+    if (ec || !fs::is_directory(dir)) throw InputError(fmt::format("--out {}: cannot create the directory", c.outDir));
+    writeTextFile((dir / "results.csv").string(), std::string(kStudyCsvHeader) + "\n");  // fails early if unwritable
+
+    const Accel accel(scene);
+    RenderSettings base;
+    base.width = c.width;
+    base.height = c.height;
+    base.threads = c.threads;
+    base.trace.maxDepth = c.maxDepth;
+    base.cancel = cancel;
+
+    // Cost per camera sample of each estimator, from a small pilot render, so the progress bar's ETA
+    // accounts for estimators that trace 24 paths per sample.
+    std::map<std::string, double> cost;
+    double total = 0;
+    for (const auto& e : c.estimators) {
+        RenderSettings pilot = base;
+        pilot.width = pilot.height = 24;
+        pilot.spp = 2;
+        pilot.seed = 99;
+        pilot.cancel = nullptr;
+        const auto est = makeEstimator(e, c.options);
+        const RenderResult r = render(scene, accel, *est, pilot);
+        cost[e] = std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
+        for (auto s : c.spps) total += cost[e] * s * c.width * c.height * c.repeats;
+    }
+
+    // Reference: given, cached, or rendered now.
+    Image reference;
+    MeanWithError refMean;
+    double refNoise = 0;  // mean over pixels of the reference's variance-of-mean (luminance)
+    std::string referenceNote;
+    const fs::path refExr = dir / "reference.exr", refJson = dir / "reference.json";
+    nlohmann::json refKey = {{"scene", sceneFingerprint(c.scene)}, {"width", c.width}, {"height", c.height}, {"spp", c.referenceSpp},
+                             {"estimator", c.referenceEstimator}, {"max_depth", c.maxDepth}, {"seed", c.seed},
+                             {"symmetric_n", c.options.symmetricN}, {"version", 1}};
+    std::atomic<std::uint64_t> rowSamples{0};
+    double doneBefore = 0, currentCost = 0;
+    std::string currentLabel = "reference";
+    std::mutex labelMutex;
+    bool haveReference = false;
+    if (!c.referencePath.empty()) {
+        reference = readExr(c.referencePath);
+        if (reference.width != c.width || reference.height != c.height)
+            throw InputError(fmt::format("--reference {}: {}x{} does not match the study's {}x{}", c.referencePath, reference.width,
+                                         reference.height, c.width, c.height));
+        refMean = meanLuminance(reference);
+        referenceNote = fmt::format("Reference: `{}` (given; its own noise is unknown and taken as zero).", c.referencePath);
+        haveReference = true;
+    } else if (fs::exists(refExr) && fs::exists(refJson)) {
+        try {
+            const auto cached = nlohmann::json::parse(readTextFile(refJson.string()));
+            if (cached.value("key", nlohmann::json()) == refKey) {
+                reference = readExr(refExr.string());
+                refMean = {cached.at("mean_luminance").get<double>(), cached.at("mean_std_error").get<double>()};
+                refNoise = cached.at("pixel_variance").get<double>();
+                haveReference = reference.width == c.width && reference.height == c.height;
+                referenceNote = fmt::format("Reference: `{}` at {} spp, cached in reference.exr.", c.referenceEstimator, c.referenceSpp);
+            }
+        } catch (const std::exception&) {
+            haveReference = false;  // a damaged cache is re-rendered
+        }
+    }
+    const double refCost = haveReference ? 0.0 : cost.count(c.referenceEstimator) ? cost[c.referenceEstimator] : [&] {
+        RenderSettings pilot = base;
+        pilot.width = pilot.height = 24;
+        pilot.spp = 2;
+        pilot.cancel = nullptr;
+        const auto est = makeEstimator(c.referenceEstimator, c.options);
+        const RenderResult r = render(scene, accel, *est, pilot);
+        return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
+    }();
+    const double refWork = refCost * c.referenceSpp * c.width * c.height;
+    total += refWork;
+
+    int rowIndex = 0;
+    const int rowCount = static_cast<int>(c.estimators.size() * c.spps.size()) * c.repeats;
+    ProgressBar bar([&] { return doneBefore + currentCost * static_cast<double>(rowSamples.load(std::memory_order_relaxed)); }, total,
+                    [&] {
+                        std::lock_guard<std::mutex> lock(labelMutex);
+                        return currentLabel;
+                    },
+                    showProgress);
+
+    StudyOutcome outcome;
+    if (!haveReference) {
+        currentCost = refCost;
+        RenderSettings rs = base;
+        rs.spp = c.referenceSpp;
+        rs.seed = mixSeed(c.seed, 0xFEFE);
+        const auto est = makeEstimator(c.referenceEstimator, c.options);
+        const RenderResult r = render(scene, accel, *est, rs, &rowSamples);
+        if (r.cancelled) {
+            bar.finish();
+            outcome.cancelled = true;
+            return outcome;
+        }
+        reference = r.image;
+        refMean = meanLuminance(r.image, &r.variance);
+        for (const Color& v : r.variance.pixels) refNoise += luminance(v) / static_cast<double>(r.variance.pixels.size());
+        writeExr(reference, refExr.string(), false);
+        writeTextFile(refJson.string(), nlohmann::json{{"key", refKey}, {"mean_luminance", refMean.mean}, {"mean_std_error", refMean.stdError},
+                                                       {"pixel_variance", refNoise}, {"seconds", r.stats.seconds}}
+                                                .dump(2) +
+                                            "\n");
+        referenceNote = fmt::format("Reference: `{}` at {} spp ({:.1f} s), cached in reference.exr.", c.referenceEstimator,
+                                    c.referenceSpp, r.stats.seconds);
+    }
+    doneBefore += refWork;
+    rowSamples = 0;
+    writePng(reference, (dir / "reference.png").string());
+
+    const Crop crop{c.width / 3, c.height / 3, std::max(1, c.width / 3), std::max(1, c.height / 3)};
+    const auto writeResults = [&] {
+        writeTextFile((dir / "results.csv").string(), studyCsv(outcome.rows));
+        nlohmann::json j;
+        j["config"] = {{"scene", scene.name}, {"scene_spec", c.scene}, {"estimators", c.estimators}, {"spp", c.spps},
+                       {"repeats", c.repeats}, {"width", c.width}, {"height", c.height}, {"max_depth", c.maxDepth}, {"seed", c.seed},
+                       {"reference", {{"path", c.referencePath}, {"estimator", c.referenceEstimator}, {"spp", c.referenceSpp},
+                                      {"mean_luminance", refMean.mean}, {"pixel_variance", refNoise}}},
+                       {"heatmap", {{"spp", heatSpp}, {"width", c.width}, {"height", c.height}, {"crop", {crop.x, crop.y, crop.w, crop.h}}}}};
+        j["rows"] = nlohmann::json::array();
+        for (const auto& r : outcome.rows) j["rows"].push_back(rowJson(r));
+        outcome.summary = summarizeStudy(outcome.rows);
+        j["summary"] = nlohmann::json::array();
+        for (const auto& s : outcome.summary) j["summary"].push_back(summaryJson(s));
+        outcome.conclusion = studyConclusion(outcome.summary, c.spps);
+        j["conclusion"] = outcome.conclusion;
+        writeTextFile((dir / "results.json").string(), j.dump(1) + "\n");
+    };
+
+    for (std::uint32_t spp : c.spps) {
+        for (std::size_t ei = 0; ei < c.estimators.size() && !outcome.cancelled; ++ei) {
+            const std::string& name = c.estimators[ei];
+            const auto est = makeEstimator(name, c.options);
+            std::vector<Image> images;
+            std::vector<MeanWithError> means;
+            const std::size_t firstRow = outcome.rows.size();
+            for (int rep = 0; rep < c.repeats; ++rep) {
+                {
+                    std::lock_guard<std::mutex> lock(labelMutex);
+                    currentLabel = fmt::format("{} {} spp, repeat {}/{} (row {}/{})", name, spp, rep + 1, c.repeats, rowIndex + 1, rowCount);
+                }
+                currentCost = cost[name];
+                rowSamples = 0;
+                RenderSettings rs = base;
+                rs.spp = spp;
+                rs.seed = mixSeed(mixSeed(mixSeed(c.seed, ei + 1), spp), static_cast<std::uint64_t>(rep));
+                const RenderResult r = render(scene, accel, *est, rs, &rowSamples);
+                doneBefore += cost[name] * spp * c.width * c.height;
+                rowSamples = 0;
+                ++rowIndex;
+                if (r.cancelled) {
+                    outcome.cancelled = true;
+                    break;
+                }
+                StudyRow row;
+                row.scene = scene.name;
+                row.estimator = name;
+                row.spp = spp;
+                row.repeat = rep;
+                row.width = c.width;
+                row.height = c.height;
+                row.seconds = r.stats.seconds;
+                row.rays = r.stats.rays;
+                row.samples = r.stats.samples;
+                const MeanWithError m = meanLuminance(r.image, &r.variance);
+                row.meanLuminance = m.mean;
+                row.meanStdError = m.stdError;
+                row.relativeBias = refMean.mean != 0 ? (m.mean - refMean.mean) / refMean.mean : 0.0;
+                const ImageError err = imageError(r.image, reference);
+                row.mseRaw = err.mse;
+                row.mse = std::max(err.mse - refNoise, 1e-300);
+                row.rmse = std::sqrt(row.mse);
+                row.relMse = err.relMse;
+                row.efficiency = 1.0 / (row.mse * std::max(row.seconds, 1e-9));
+                for (const Color& v : r.variance.pixels) row.pixelVarianceWithin += luminance(v) / static_cast<double>(r.variance.pixels.size());
+                means.push_back(m);
+                if (spp == heatSpp && rep == 0) {
+                    writePng(r.image, (dir / "renders" / (name + ".png")).string());
+                    const std::vector<float> map = relativeErrorMap(r.image, reference);
+                    writeAtomically((dir / "heatmaps" / (name + ".f32")).string(), [&](const std::string& tmp) {
+                        std::ofstream out(tmp, std::ios::binary);
+                        out.write(reinterpret_cast<const char*>(map.data()), static_cast<std::streamsize>(map.size() * sizeof(float)));
+                        if (!out) throw std::runtime_error("write failed");
+                    });
+                }
+                images.push_back(r.image);
+                outcome.rows.push_back(row);
+            }
+            if (outcome.cancelled) {
+                outcome.rows.resize(firstRow);  // keep only whole groups: their group columns are complete
+                break;
+            }
+            const BiasEstimate bias = relativeBias(means, refMean);
+            std::vector<const Image*> ptrs;
+            for (const Image& im : images) ptrs.push_back(&im);
+            const double pv = pixelVarianceAcrossRepeats(ptrs);
+            for (std::size_t i = firstRow; i < outcome.rows.size(); ++i) {
+                StudyRow& row = outcome.rows[i];
+                row.groupRelativeBias = bias.relative;
+                row.groupBiasStdError = bias.stdError;
+                row.groupBiasZ = bias.z;
+                row.groupBiasThreshold = bias.threshold;
+                row.groupBiasSignificant = bias.significant;
+                row.groupPixelVariance = pv;
+            }
+            writeResults();
+        }
+        if (outcome.cancelled) break;
+    }
+    bar.finish();
+    writeResults();
+
+    if (!outcome.cancelled && c.plots) {
+        const std::string py = findPython(c.python);
+        if (py.empty()) {
+            fmt::print(stderr, "symphong: warning: no python3 with matplotlib found (Debian: apt-get install python3-matplotlib); "
+                               "no plots were made\n");
+        } else {
+            const std::string script = (dir / "plot_study.py").string();
+            writeTextFile(script, kPlotStudyScript);
+            const std::string cmd = fmt::format("'{}' '{}' '{}'", py, script, dir.string());
+            outcome.plotted = std::system(cmd.c_str()) == 0;
+            if (!outcome.plotted) fmt::print(stderr, "symphong: warning: the plotting script failed: {}\n", cmd);
+        }
+    }
+    writeTextFile((dir / "report.md").string(),
+                  reportMarkdown(c, scene.name, outcome.summary, outcome.conclusion, referenceNote, outcome.plotted, heatSpp, outcome.cancelled));
+    return outcome;
+}
+
+}  // namespace symphong

@@ -1,0 +1,91 @@
+// study/study.h — `symphong study`: renders a scene with several estimators at several sample counts,
+// R independent times each, against a reference, and measures bias, RMSE, relMSE, per-pixel variance,
+// time, rays and efficiency; writes results.csv, results.json, plots (through the embedded
+// scripts/plot_study.py and matplotlib), heat maps, crops and report.md.
+#pragma once
+
+#include "estimators/estimator.h"
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace symphong {
+
+struct StudyConfig {
+    std::string scene = "cornell";
+    std::vector<std::string> estimators = {"cosine", "stratified", "phong", "symmetric", "symmetric-shifted", "paper"};
+    std::vector<std::uint32_t> spps = {1, 4, 16, 64};
+    int repeats = 4;
+    int width = 128, height = 128;
+    int maxDepth = 16;
+    std::uint64_t seed = 1;
+    int threads = 0;
+    std::string referencePath;            ///< a given reference EXR; empty: render (and cache) one
+    std::uint32_t referenceSpp = 2048;
+    std::string referenceEstimator = "phong";
+    std::string outDir = "out/study";
+    std::uint32_t heatmapSpp = 0;         ///< spp of the heat maps and crops; 0: the middle of `spps`
+    EstimatorOptions options;
+    bool plots = true;
+    std::string python;                   ///< interpreter for the plots; empty: /usr/bin/python3, then python3
+};
+
+/// One render: estimator x spp x repeat. Group columns (group_*) repeat the (estimator, spp) values.
+struct StudyRow {
+    std::string scene, estimator;
+    std::uint32_t spp = 0;
+    int repeat = 0;
+    int width = 0, height = 0;
+    double seconds = 0;
+    std::uint64_t rays = 0, samples = 0;
+    double meanLuminance = 0, meanStdError = 0;
+    double relativeBias = 0;      ///< this render's image mean against the reference's
+    double mseRaw = 0;            ///< mean squared luminance error against the reference
+    double mse = 0;               ///< mseRaw less the reference's own noise (its mean variance), at least 0
+    double rmse = 0, relMse = 0;
+    double efficiency = 0;        ///< 1 / (mse * seconds)
+    double pixelVarianceWithin = 0;  ///< mean over pixels of the render's own variance-of-mean (luminance)
+    // group values over the R repeats of (estimator, spp)
+    double groupRelativeBias = 0, groupBiasStdError = 0, groupBiasZ = 0;
+    double groupBiasThreshold = 4;   ///< |z| above which the group's bias counts as significant
+    bool groupBiasSignificant = false;
+    double groupPixelVariance = 0;   ///< mean over pixels of the variance across repeats (needs R >= 2)
+};
+
+/// Aggregate of one (estimator, spp) group.
+struct StudySummary {
+    std::string estimator;
+    std::uint32_t spp = 0;
+    double seconds = 0, rmse = 0, rmseSpread = 0, mse = 0, relMse = 0, efficiency = 0;
+    double rays = 0;
+    double relativeBias = 0, biasStdError = 0, biasZ = 0;
+    bool biasSignificant = false;
+    double pixelVariance = 0;
+};
+
+/// The CSV header, fixed: downstream scripts rely on these names and this order.
+extern const char* const kStudyCsvHeader;
+std::string studyCsv(const std::vector<StudyRow>& rows);
+
+/// Groups rows by (estimator, spp), in the order of first appearance; mean over repeats except
+/// efficiency (median, robust to one slow or noisy repeat).
+std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows);
+
+/// One paragraph answering, from the numbers: which estimator wins where, and by what factor.
+std::string studyConclusion(const std::vector<StudySummary>& summary, const std::vector<std::uint32_t>& spps);
+
+struct StudyOutcome {
+    std::vector<StudyRow> rows;
+    std::vector<StudySummary> summary;
+    bool cancelled = false;
+    bool plotted = false;
+    std::string conclusion;
+};
+
+/// Runs the study; `cancel` (e.g. set by Ctrl-C) stops it between tiles, keeping finished rows in
+/// results.csv. Throws InputError on bad configuration.
+StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel = nullptr, bool showProgress = false);
+
+}  // namespace symphong
