@@ -72,7 +72,9 @@ def convergence(data, out_dir, x_key, stem, xlabel):
 def efficiency(data, out_dir):
     summary = data["summary"]
     top = max(data["config"]["spp"])
-    rows = [s for s in summary if s["spp"] == top]
+    rows = [s for s in summary if s["spp"] == top and math.isfinite(s["efficiency"]) and s["efficiency"] > 0]
+    if not rows:
+        return
     base = next((s["efficiency"] for s in rows if s["estimator"] == "cosine"), None) or max(s["efficiency"] for s in rows)
     fig, ax = plt.subplots(figsize=(5.6, 3.6))
     names = [s["estimator"] for s in rows]

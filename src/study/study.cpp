@@ -193,8 +193,8 @@ struct Crop {
 };
 
 std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, const std::vector<StudySummary>& summary,
-                           const std::string& conclusion, const std::string& referenceNote, bool plotted, std::uint32_t heatSpp,
-                           bool cancelled) {
+                           const std::string& conclusion, const std::string& referenceNote, double referenceNoise, bool plotted,
+                           std::uint32_t heatSpp, bool cancelled) {
     std::string md = fmt::format("# Estimator study: {}\n\n", sceneName);
     if (cancelled) md += "**Interrupted**: these are the rows finished before the study was stopped.\n\n";
     md += fmt::format(
@@ -203,6 +203,13 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
         c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, referenceNote, c.scene, fmt::join(c.estimators, ","),
         fmt::join(c.spps, ","), c.repeats, c.width, c.height);
     md += "## Conclusion\n\n" + conclusion + "\n\n";
+    for (const auto& s : summary)
+        if (s.mse > 0 && referenceNoise > 0.5 * s.mse) {
+            md += fmt::format("**Warning:** the reference's own noise ({:.3g}) is at least half of some estimators' squared error "
+                              "(`{}` at {} spp: {:.3g}); their RMSE and efficiency are uncertain. Raise --reference-spp.\n\n",
+                              referenceNoise, s.estimator, s.spp, s.mse);
+            break;
+        }
     if (plotted) {
         md += "## Convergence\n\n![RMSE against samples per pixel](convergence_spp.png)\n\n"
               "![RMSE against render time](convergence_time.png)\n\n"
@@ -456,7 +463,9 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 row.relativeBias = refMean.mean != 0 ? (m.mean - refMean.mean) / refMean.mean : 0.0;
                 const ImageError err = imageError(r.image, reference);
                 row.mseRaw = err.mse;
-                row.mse = std::max(err.mse - refNoise, 1e-300);
+                // Remove the reference's own noise from the error; where that would leave less than 5% of
+                // the raw error the reference is too noisy to say more (the report warns).
+                row.mse = std::max(err.mse - refNoise, 0.05 * err.mse);
                 row.rmse = std::sqrt(row.mse);
                 row.relMse = err.relMse;
                 row.efficiency = 1.0 / (row.mse * std::max(row.seconds, 1e-9));
@@ -512,7 +521,8 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         }
     }
     writeTextFile((dir / "report.md").string(),
-                  reportMarkdown(c, scene.name, outcome.summary, outcome.conclusion, referenceNote, outcome.plotted, heatSpp, outcome.cancelled));
+                  reportMarkdown(c, scene.name, outcome.summary, outcome.conclusion, referenceNote, refNoise, outcome.plotted, heatSpp,
+                                 outcome.cancelled));
     return outcome;
 }
 

@@ -1,0 +1,314 @@
+// `symphong study`: metrics on synthetic images with known error, the bias flag on a tiny scene
+// (fires for `paper`, not for `cosine`), the CSV/JSON schema, the plots, the reference cache and Ctrl-C.
+#include "cli/cli.h"
+#include "io/image.h"
+#include "io/input_error.h"
+#include "study/metrics.h"
+#include "study/study.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+using namespace symphong;
+namespace fs = std::filesystem;
+
+namespace {
+
+Image constantImage(int w, int h, double v) {
+    Image img(w, h);
+    for (Color& c : img.pixels) c = Color(v);
+    return img;
+}
+
+std::string readAll(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+fs::path freshDir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / ("symphong-study-" + name);
+    fs::remove_all(d);
+    return d;
+}
+
+StudyConfig tinyConfig(const fs::path& dir) {
+    StudyConfig c;
+    c.estimators = {"cosine", "paper"};
+    c.spps = {16, 64};
+    c.repeats = 2;
+    c.width = c.height = 16;
+    c.referenceSpp = 512;
+    c.outDir = dir.string();
+    c.plots = false;
+    return c;
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------------------------------
+// Metrics on images with known error
+
+TEST(StudyMetrics, ErrorsOfAKnownPerturbation) {
+    const Image ref = constantImage(8, 4, 0.5);
+    Image img = ref;
+    for (int i = 0; i < 32; ++i) img.pixels[i] += Color(i % 2 ? 0.1 : -0.1);  // +-0.1 in luminance
+    const ImageError e = imageError(img, ref);
+    EXPECT_NEAR(e.mse, 0.01, 1e-12);
+    EXPECT_NEAR(e.rmse, 0.1, 1e-12);
+    EXPECT_NEAR(e.relMse, 0.01 / (0.25 + 0.01), 1e-12);
+    EXPECT_THROW(imageError(constantImage(2, 2, 0), ref), std::invalid_argument);
+}
+
+TEST(StudyMetrics, NoisyImagesAroundTheReference) {
+    // Reference + Gaussian-like noise of known variance: the MSE estimate is within its sampling error.
+    const int w = 200, h = 200;
+    Image ref(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) ref.at(x, y) = Color(0.2 + 0.6 * x / w);
+    Rng rng(3, 3);
+    Image img = ref;
+    const double sigma = 0.05;
+    for (Color& c : img.pixels) {
+        const double u1 = std::max(rng.uniform(), 1e-300), u2 = rng.uniform();
+        c += Color(sigma * std::sqrt(-2 * std::log(u1)) * std::cos(kTwoPi * u2));
+    }
+    const ImageError e = imageError(img, ref);
+    const double n = w * h, se = sigma * sigma * std::sqrt(2.0 / n);
+    EXPECT_NEAR(e.mse, sigma * sigma, 4 * se);
+}
+
+TEST(StudyMetrics, MeanLuminanceAndItsError) {
+    const Image img = constantImage(10, 10, 0.3);
+    const Image var = constantImage(10, 10, 0.04);  // each pixel mean has standard deviation 0.2
+    const MeanWithError m = meanLuminance(img, &var);
+    EXPECT_NEAR(m.mean, 0.3, 1e-12);
+    EXPECT_NEAR(m.stdError, 0.2 / 10.0, 1e-12);  // sqrt(100 * 0.04) / 100
+}
+
+TEST(StudyMetrics, PixelVarianceAcrossRepeats) {
+    const Image a = constantImage(3, 3, 1.0), b = constantImage(3, 3, 2.0), c = constantImage(3, 3, 3.0);
+    EXPECT_NEAR(pixelVarianceAcrossRepeats({&a, &b, &c}), 1.0, 1e-12);
+    EXPECT_EQ(pixelVarianceAcrossRepeats({&a}), 0.0);
+}
+
+TEST(StudyMetrics, BiasIsSignificantOnlyBeyondItsError) {
+    const MeanWithError ref{1.0, 0.001};
+    // Known errors (spp >= 2): 10% off with a 0.5% error is significant, 1% is not.
+    EXPECT_TRUE(relativeBias({{1.10, 0.005}, {1.10, 0.005}}, ref).significant);
+    EXPECT_FALSE(relativeBias({{1.01, 0.005}, {1.01, 0.005}}, ref).significant);
+    // The spread of the repeats is used when larger than their stated errors.
+    EXPECT_FALSE(relativeBias({{1.3, 0.001}, {0.9, 0.001}}, ref).significant);
+    // Unknown errors (1 spp): the spread of 2 repeats is one degree of freedom, so even a z of ~20
+    // (with spread ~0.005) is not significant; with 11 repeats it is.
+    const BiasEstimate two = relativeBias({{1.095, 0}, {1.105, 0}}, ref);
+    EXPECT_FALSE(two.significant) << two.z;
+    EXPECT_GT(two.threshold, 1000);
+    std::vector<MeanWithError> eleven;
+    for (int i = 0; i < 11; ++i) eleven.push_back({1.1 + 0.001 * (i - 5), 0});
+    EXPECT_TRUE(relativeBias(eleven, ref).significant);
+    EXPECT_FALSE(relativeBias({{1.5, 0}}, ref).significant) << "one repeat at 1 spp cannot be judged";
+    EXPECT_NEAR(studentCritical(2), 125.65, 1e-9);
+    EXPECT_NEAR(studentCritical(1000), 4.0, 0.03);
+}
+
+TEST(StudyMetrics, RelativeErrorMap) {
+    const Image ref = constantImage(2, 1, 0.99);
+    const Image img = constantImage(2, 1, 1.99);
+    for (float v : relativeErrorMap(img, ref)) EXPECT_NEAR(v, 1.0, 1e-6);
+}
+
+// ----------------------------------------------------------------------------------------------------
+// The study on a tiny scene
+
+class TinyStudy : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new fs::path(freshDir("tiny"));
+        outcome_ = new StudyOutcome(runStudy(tinyConfig(*dir_)));
+    }
+    static void TearDownTestSuite() {
+        fs::remove_all(*dir_);
+        delete outcome_;
+        delete dir_;
+    }
+    static fs::path* dir_;
+    static StudyOutcome* outcome_;
+};
+fs::path* TinyStudy::dir_ = nullptr;
+StudyOutcome* TinyStudy::outcome_ = nullptr;
+
+TEST_F(TinyStudy, FlagsThePaperAsBiasedAndNotCosine) {
+    ASSERT_FALSE(outcome_->cancelled);
+    for (const StudySummary& s : outcome_->summary) {
+        if (s.estimator == "paper") {
+            EXPECT_TRUE(s.biasSignificant || s.spp < 64) << s.spp << " spp: z = " << s.biasZ;
+        } else {
+            EXPECT_FALSE(s.biasSignificant) << s.estimator << " " << s.spp << " spp: z = " << s.biasZ;
+        }
+    }
+    EXPECT_NE(outcome_->conclusion.find("`paper`"), std::string::npos) << outcome_->conclusion;
+}
+
+TEST_F(TinyStudy, CsvHasAStableSchemaAndOneRowPerRender) {
+    const std::string csv = readAll(*dir_ / "results.csv");
+    EXPECT_EQ(csv.substr(0, csv.find('\n')),
+              "scene,estimator,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
+              "relative_bias,mse_raw,mse,rmse,relmse,efficiency,pixel_variance_within,group_relative_bias,"
+              "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2 * 2);
+    EXPECT_EQ(outcome_->rows.size(), 8u);
+    for (const StudyRow& r : outcome_->rows) {
+        EXPECT_GT(r.seconds, 0);
+        EXPECT_GT(r.rays, 0u);
+        EXPECT_EQ(r.samples, 16u * 16u * r.spp);
+        EXPECT_GT(r.rmse, 0);
+        EXPECT_NEAR(r.efficiency, 1.0 / (r.mse * r.seconds), 1e-9 * r.efficiency);
+    }
+}
+
+TEST_F(TinyStudy, JsonHasConfigRowsSummaryAndConclusion) {
+    const auto j = nlohmann::json::parse(readAll(*dir_ / "results.json"));
+    for (const char* key : {"config", "rows", "summary", "conclusion"}) EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["rows"].size(), 8u);
+    EXPECT_EQ(j["summary"].size(), 4u);
+    for (const char* key : {"estimator", "spp", "repeat", "seconds", "rays", "rmse", "relmse", "mse", "efficiency",
+                            "group_relative_bias", "group_bias_std_error", "group_bias_significant", "group_pixel_variance"})
+        EXPECT_TRUE(j["rows"][0].contains(key)) << key;
+    for (const char* key : {"estimator", "spp", "seconds", "rmse", "rmse_spread", "efficiency", "relative_bias", "bias_significant"})
+        EXPECT_TRUE(j["summary"][0].contains(key)) << key;
+    for (const char* key : {"estimators", "spp", "repeats", "reference", "heatmap"}) EXPECT_TRUE(j["config"].contains(key)) << key;
+}
+
+TEST_F(TinyStudy, WritesTheReportHeatmapsAndRenders) {
+    const std::string report = readAll(*dir_ / "report.md");
+    EXPECT_NE(report.find("## Conclusion"), std::string::npos);
+    EXPECT_NE(report.find("## Equal time"), std::string::npos);
+    EXPECT_NE(report.find("| paper | 64 |"), std::string::npos) << report;
+    for (const char* f : {"reference.exr", "reference.json", "reference.png", "renders/cosine.png", "renders/paper.png", "heatmaps/cosine.f32"})
+        EXPECT_GT(fs::file_size(*dir_ / f), 0u) << f;
+    EXPECT_EQ(fs::file_size(*dir_ / "heatmaps/paper.f32"), 16u * 16u * sizeof(float));
+}
+
+TEST_F(TinyStudy, TheReferenceIsCachedAndReusedOnlyWhenTheSettingsMatch) {
+    const auto stamp = fs::last_write_time(*dir_ / "reference.exr");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    StudyConfig c = tinyConfig(*dir_);
+    c.estimators = {"cosine"};
+    c.spps = {4};
+    runStudy(c);
+    EXPECT_EQ(fs::last_write_time(*dir_ / "reference.exr"), stamp) << "same settings: the cached reference is reused";
+    c.referenceSpp = 256;
+    runStudy(c);
+    EXPECT_NE(fs::last_write_time(*dir_ / "reference.exr"), stamp) << "other settings: a new reference";
+    c.referenceSpp = 512;
+    runStudy(c);  // leave the cache as the suite found it
+}
+
+TEST(Study, MakesEveryPlotAsPngAndSvg) {
+    const fs::path dir = freshDir("plots");
+    StudyConfig c = tinyConfig(dir);
+    c.plots = true;
+    c.referenceSpp = 256;
+    const StudyOutcome o = runStudy(c);
+    if (!o.plotted) {
+        if (std::getenv("SYMPHONG_REQUIRE_PLOTS")) FAIL() << "the plots were not made";
+        GTEST_SKIP() << "no python3 with matplotlib here";
+    }
+    for (const char* stem : {"convergence_spp", "convergence_time", "efficiency", "heatmaps", "crops"})
+        for (const char* ext : {".png", ".svg"}) EXPECT_GT(fs::file_size(dir / (std::string(stem) + ext)), 1000u) << stem << ext;
+    EXPECT_NE(readAll(dir / "report.md").find("![RMSE against samples per pixel](convergence_spp.png)"), std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST(Study, CancellingKeepsTheFinishedRows) {
+    const fs::path dir = freshDir("cancel");
+    StudyConfig c = tinyConfig(dir);
+    c.estimators = {"cosine", "phong"};
+    c.spps = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024};
+    c.referenceSpp = 16;
+    std::atomic<bool> cancel{false};
+    std::thread watcher([&] {
+        // Cancel once the first group's rows are in results.csv.
+        for (int i = 0; i < 20000 && !cancel; ++i) {
+            const std::string csv = fs::exists(dir / "results.csv") ? readAll(dir / "results.csv") : std::string();
+            if (std::count(csv.begin(), csv.end(), '\n') > 2) cancel = true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+    });
+    const StudyOutcome o = runStudy(c, &cancel);
+    cancel = true;
+    watcher.join();
+    EXPECT_TRUE(o.cancelled);
+    EXPECT_FALSE(o.rows.empty());
+    EXPECT_LT(o.rows.size(), 2u * 11 * 2);
+    const std::string csv = readAll(dir / "results.csv");
+    EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), 1 + o.rows.size());
+    EXPECT_NE(readAll(dir / "report.md").find("Interrupted"), std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST(Study, BadConfigurationsAreInputErrors) {
+    const fs::path dir = freshDir("bad");
+    StudyConfig c = tinyConfig(dir);
+    c.estimators = {"cosin"};
+    EXPECT_THROW(runStudy(c), InputError);
+    c = tinyConfig(dir);
+    c.spps = {0, 4};
+    EXPECT_THROW(runStudy(c), InputError);
+    c = tinyConfig(dir);
+    c.referenceEstimator = "paper";
+    EXPECT_THROW(runStudy(c), InputError);
+    c = tinyConfig(dir);
+    c.referencePath = (dir / "missing.exr").string();
+    EXPECT_THROW(runStudy(c), InputError);
+    c = tinyConfig(dir);
+    c.heatmapSpp = 5;
+    EXPECT_THROW(runStudy(c), InputError);
+    // A given reference of the wrong size.
+    fs::create_directories(dir);
+    writeExr(constantImage(8, 8, 1.0), (dir / "ref8.exr").string());
+    c = tinyConfig(dir);
+    c.referencePath = (dir / "ref8.exr").string();
+    try {
+        runStudy(c);
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("8x8 does not match"), std::string::npos) << e.what();
+    }
+    fs::remove_all(dir);
+}
+
+TEST(Study, CommandLineRejectsBadInput) {
+    const auto run = [](std::vector<std::string> args) {
+        args.insert(args.begin(), "symphong");
+        std::vector<const char*> argv;
+        for (const auto& a : args) argv.push_back(a.c_str());
+        testing::internal::CaptureStderr();
+        testing::internal::CaptureStdout();
+        const int code = runCli(static_cast<int>(argv.size()), argv.data());
+        const std::string err = testing::internal::GetCapturedStderr();
+        testing::internal::GetCapturedStdout();
+        return std::make_pair(code, err);
+    };
+    const std::string out = freshDir("cli").string();
+    auto [code, err] = run({"study", "--estimators", "cosine,bogus", "-o", out});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(err.find("bogus"), std::string::npos);
+    std::tie(code, err) = run({"study", "--spp", "0", "-o", out});
+    EXPECT_EQ(code, 2);
+    std::tie(code, err) = run({"study", "--repeats", "0", "-o", out});
+    EXPECT_EQ(code, 2);
+    std::tie(code, err) = run({"study", "--reference", out + "/none.exr", "-o", out});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(err.find("none.exr"), std::string::npos);
+    fs::remove_all(out);
+}
