@@ -16,6 +16,8 @@
 #include <sstream>
 #include <thread>
 
+#include <unistd.h>
+
 using namespace symphong;
 namespace fs = std::filesystem;
 
@@ -35,7 +37,8 @@ std::string readAll(const fs::path& p) {
 }
 
 fs::path freshDir(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() / ("symphong-study-" + name);
+    // One directory per process: CTest runs the tests of this file as parallel processes.
+    const fs::path d = fs::temp_directory_path() / ("symphong-study-" + name + "-" + std::to_string(::getpid()));
     fs::remove_all(d);
     return d;
 }
