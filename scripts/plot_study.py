@@ -75,22 +75,22 @@ def efficiency(data, out_dir):
     rows = [s for s in summary if s["spp"] == top and math.isfinite(s["efficiency"]) and s["efficiency"] > 0]
     if not rows:
         return
-    base = next((s["efficiency"] for s in rows if s["estimator"] == "cosine"), None) or max(s["efficiency"] for s in rows)
-    fig, ax = plt.subplots(figsize=(5.6, 3.6))
-    names = [s["estimator"] for s in rows]
-    vals = [s["efficiency"] / base for s in rows]
-    for i, (s, v) in enumerate(zip(rows, vals)):
-        color, _ = style(s["estimator"])
-        ax.bar(i, v, color=color, hatch="//" if s["bias_significant"] else None, edgecolor="black", lw=0.5)
-        ax.text(i, v, f"{v:.2g}x", ha="center", va="bottom", fontsize=7)
-    ax.set_xticks(range(len(names)))
-    ax.set_xticklabels([n + (" (biased)" if s["bias_significant"] else "") for n, s in zip(names, rows)], fontsize=7,
-                       rotation=25, ha="right")
-    ax.set_yscale("log")
-    ax.set_ylabel("efficiency 1/(MSE x time), relative to cosine")
-    ax.set_title(f"{data['config']['scene']}: efficiency at {top} spp")
-    ax.axhline(1.0, color="black", lw=0.6)
-    ax.grid(True, axis="y", which="both", alpha=0.25)
+    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.6))
+    for ax, key, what in ((axes[0], "efficiency", "1/(MSE x time)"), (axes[1], "efficiency_relmse", "1/(relMSE x time)")):
+        base = next((s[key] for s in rows if s["estimator"] == "cosine"), None) or max(s[key] for s in rows)
+        for i, s in enumerate(rows):
+            v = s[key] / base
+            color, _ = style(s["estimator"])
+            ax.bar(i, v, color=color, hatch="//" if s["bias_significant"] else None, edgecolor="black", lw=0.5)
+            ax.text(i, v, f"{v:.2g}x", ha="center", va="bottom", fontsize=7)
+        ax.set_xticks(range(len(rows)))
+        ax.set_xticklabels([s["estimator"] + (" (biased)" if s["bias_significant"] else "") for s in rows], fontsize=7,
+                           rotation=25, ha="right")
+        ax.set_yscale("log")
+        ax.set_ylabel(f"efficiency {what}\nrelative to cosine")
+        ax.axhline(1.0, color="black", lw=0.6)
+        ax.grid(True, axis="y", which="both", alpha=0.25)
+    fig.suptitle(f"{data['config']['scene']}: efficiency at {top} spp (higher is better)", fontsize=9)
     save(fig, out_dir, "efficiency")
 
 

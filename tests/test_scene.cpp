@@ -195,3 +195,21 @@ TEST(JsonScenes, ErrorsNameTheProblem) {
         EXPECT_NE(msg.find("s.json"), std::string::npos) << msg;
     }
 }
+
+// The study scenes shipped in scenes/ load, with the materials they promise.
+TEST(StudyScenes, AllLoad) {
+    const fs::path dir = fs::path(SYMPHONG_SOURCE_DIR) / "scenes";
+    int count = 0;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        if (e.path().extension() != ".json") continue;
+        if (e.path().filename() == "mcguire-glossy.json" && test::scenesDir().empty()) continue;
+        const Scene s = loadScene(e.path().string());
+        EXPECT_TRUE(s.hasEmitter()) << e.path();
+        ++count;
+    }
+    EXPECT_GE(count, 4);
+    const Scene g = loadScene((dir / "cornell-glossy-1000.json").string());
+    EXPECT_DOUBLE_EQ(g.materials[g.findMaterial("tallBlock")].exponent, 1000);
+    const Scene d = loadScene((dir / "cornell-diffuse.json").string());
+    EXPECT_FALSE(d.materials[d.findMaterial("tallBlock")].hasSpecular());
+}

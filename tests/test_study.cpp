@@ -165,7 +165,7 @@ TEST_F(TinyStudy, CsvHasAStableSchemaAndOneRowPerRender) {
     const std::string csv = readAll(*dir_ / "results.csv");
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
               "scene,estimator,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
-              "relative_bias,mse_raw,mse,rmse,relmse,efficiency,pixel_variance_within,group_relative_bias,"
+              "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
               "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2 * 2);
     EXPECT_EQ(outcome_->rows.size(), 8u);

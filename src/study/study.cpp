@@ -28,15 +28,15 @@ namespace symphong {
 
 const char* const kStudyCsvHeader =
     "scene,estimator,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
-    "relative_bias,mse_raw,mse,rmse,relmse,efficiency,pixel_variance_within,group_relative_bias,"
+    "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
     "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance";
 
 std::string studyCsv(const std::vector<StudyRow>& rows) {
     std::string out = std::string(kStudyCsvHeader) + "\n";
     for (const StudyRow& r : rows)
-        out += fmt::format("{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g}\n",
+        out += fmt::format("{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g}\n",
                            r.scene, r.estimator, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples, r.meanLuminance,
-                           r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.pixelVarianceWithin,
+                           r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.efficiencyRel, r.pixelVarianceWithin,
                            r.groupRelativeBias, r.groupBiasStdError, r.groupBiasZ, r.groupBiasThreshold, r.groupBiasSignificant ? 1 : 0,
                            r.groupPixelVariance);
     return out;
@@ -58,7 +58,7 @@ std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
     for (StudySummary& s : out) {
         const auto& g = groups[{s.estimator, s.spp}];
         const double n = static_cast<double>(g.size());
-        std::vector<double> eff;
+        std::vector<double> eff, effRel;
         for (const StudyRow* r : g) {
             s.seconds += r->seconds / n;
             s.rmse += r->rmse / n;
@@ -66,12 +66,17 @@ std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
             s.relMse += r->relMse / n;
             s.rays += static_cast<double>(r->rays) / n;
             eff.push_back(r->efficiency);
+            effRel.push_back(r->efficiencyRel);
         }
         double spread = 0;
         for (const StudyRow* r : g) spread += (r->rmse - s.rmse) * (r->rmse - s.rmse);
         s.rmseSpread = g.size() > 1 ? std::sqrt(spread / (n - 1) / n) : 0.0;  // standard error of the mean RMSE
-        std::sort(eff.begin(), eff.end());
-        s.efficiency = eff.size() % 2 ? eff[eff.size() / 2] : 0.5 * (eff[eff.size() / 2 - 1] + eff[eff.size() / 2]);
+        const auto median = [](std::vector<double> v) {
+            std::sort(v.begin(), v.end());
+            return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+        };
+        s.efficiency = median(eff);
+        s.efficiencyRel = median(effRel);
         s.relativeBias = g.front()->groupRelativeBias;
         s.biasStdError = g.front()->groupBiasStdError;
         s.biasZ = g.front()->groupBiasZ;
@@ -126,6 +131,19 @@ std::string studyConclusion(const std::vector<StudySummary>& summary, const std:
         if (!parts.empty())
             text += fmt::format("`{}` reaches {} efficiency (1/(MSE x time)); ", sym, fmt::join(parts, ", "));
     }
+    // MSE is an average of squared absolute errors, so a few very bright, very noisy pixels (an emitter's
+    // anti-aliased edge, which no estimator of reflected light can help) can decide it. relMSE weighs
+    // every pixel by its brightness; say what it concludes too.
+    if (const StudySummary* cosRel = find(summary, "cosine", top); cosRel && cosRel->efficiencyRel > 0) {
+        std::vector<std::string> parts;
+        for (const auto* s : atTop)
+            if (s->estimator != "cosine" && !biasedAnywhere(summary, s->estimator) && s->efficiencyRel > 0)
+                parts.push_back(fmt::format("`{}` {}", s->estimator, factor(s->efficiencyRel / cosRel->efficiencyRel)));
+        if (!parts.empty())
+            text += fmt::format("measured by relMSE instead (each pixel's error relative to its brightness, which keeps bright "
+                                "emitter edges from dominating), the efficiencies relative to `cosine` are: {}; ",
+                                fmt::join(parts, ", "));
+    }
     std::vector<std::string> winners;
     for (std::uint32_t spp : spps) {
         const StudySummary* w = nullptr;
@@ -175,7 +193,7 @@ nlohmann::json rowJson(const StudyRow& r) {
     return {{"scene", r.scene}, {"estimator", r.estimator}, {"spp", r.spp}, {"repeat", r.repeat}, {"width", r.width},
             {"height", r.height}, {"seconds", r.seconds}, {"rays", r.rays}, {"samples", r.samples},
             {"mean_luminance", r.meanLuminance}, {"mean_luminance_std_error", r.meanStdError}, {"relative_bias", r.relativeBias},
-            {"mse_raw", r.mseRaw}, {"mse", r.mse}, {"rmse", r.rmse}, {"relmse", r.relMse}, {"efficiency", r.efficiency},
+            {"mse_raw", r.mseRaw}, {"mse", r.mse}, {"rmse", r.rmse}, {"relmse", r.relMse}, {"efficiency", r.efficiency}, {"efficiency_relmse", r.efficiencyRel},
             {"pixel_variance_within", r.pixelVarianceWithin}, {"group_relative_bias", r.groupRelativeBias},
             {"group_bias_std_error", r.groupBiasStdError}, {"group_bias_z", r.groupBiasZ}, {"group_bias_threshold", r.groupBiasThreshold},
             {"group_bias_significant", r.groupBiasSignificant}, {"group_pixel_variance", r.groupPixelVariance}};
@@ -184,6 +202,7 @@ nlohmann::json rowJson(const StudyRow& r) {
 nlohmann::json summaryJson(const StudySummary& s) {
     return {{"estimator", s.estimator}, {"spp", s.spp}, {"seconds", s.seconds}, {"rays", s.rays}, {"rmse", s.rmse},
             {"rmse_spread", s.rmseSpread}, {"mse", s.mse}, {"relmse", s.relMse}, {"efficiency", s.efficiency},
+            {"efficiency_relmse", s.efficiencyRel},
             {"relative_bias", s.relativeBias}, {"bias_std_error", s.biasStdError}, {"bias_z", s.biasZ},
             {"bias_significant", s.biasSignificant}, {"pixel_variance", s.pixelVariance}};
 }
@@ -221,13 +240,15 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
     md += "## Equal samples\n\nMeans over the repeats; RMSE of luminance against the reference (its own noise removed), "
           "relMSE = mean of (Y - Y_ref)^2 / (Y_ref^2 + 0.01), bias of the mean image with its standard error (flagged when "
           "|z| > 4), efficiency 1/(MSE x time) as the median over repeats, relative to `cosine` at the same spp.\n\n"
-          "| estimator | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine |\n"
-          "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+          "The last column is the same with relMSE in place of MSE.\n\n"
+          "| estimator | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine | relMSE efficiency vs cosine |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& s : summary) {
         const StudySummary* cos = find(summary, "cosine", s.spp);
-        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} |\n", s.estimator, s.spp,
-                          s.seconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance, 100 * s.relativeBias, 100 * s.biasStdError,
-                          s.biasSignificant ? " **biased**" : "", cos && cos->efficiency > 0 ? factor(s.efficiency / cos->efficiency) : "-");
+        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} | {} |\n", s.estimator,
+                          s.spp, s.seconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance, 100 * s.relativeBias, 100 * s.biasStdError,
+                          s.biasSignificant ? " **biased**" : "", cos && cos->efficiency > 0 ? factor(s.efficiency / cos->efficiency) : "-",
+                          cos && cos->efficiencyRel > 0 ? factor(s.efficiencyRel / cos->efficiencyRel) : "-");
     }
     // Equal time: efficiency is about constant in spp for an unbiased estimator, so the MSE reachable in
     // time T is about 1/(efficiency x T); T = cosine's time at the highest spp.
@@ -469,6 +490,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 row.rmse = std::sqrt(row.mse);
                 row.relMse = err.relMse;
                 row.efficiency = 1.0 / (row.mse * std::max(row.seconds, 1e-9));
+                row.efficiencyRel = row.relMse > 0 ? 1.0 / (row.relMse * std::max(row.seconds, 1e-9)) : 0.0;
                 for (const Color& v : r.variance.pixels) row.pixelVarianceWithin += luminance(v) / static_cast<double>(r.variance.pixels.size());
                 means.push_back(m);
                 if (spp == heatSpp && rep == 0) {

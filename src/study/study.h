@@ -46,6 +46,7 @@ struct StudyRow {
     double mse = 0;               ///< mseRaw less the reference's own noise (its mean variance), at least 0
     double rmse = 0, relMse = 0;
     double efficiency = 0;        ///< 1 / (mse * seconds)
+    double efficiencyRel = 0;     ///< 1 / (relMse * seconds): weighs dark regions like bright ones
     double pixelVarianceWithin = 0;  ///< mean over pixels of the render's own variance-of-mean (luminance)
     // group values over the R repeats of (estimator, spp)
     double groupRelativeBias = 0, groupBiasStdError = 0, groupBiasZ = 0;
@@ -58,7 +59,7 @@ struct StudyRow {
 struct StudySummary {
     std::string estimator;
     std::uint32_t spp = 0;
-    double seconds = 0, rmse = 0, rmseSpread = 0, mse = 0, relMse = 0, efficiency = 0;
+    double seconds = 0, rmse = 0, rmseSpread = 0, mse = 0, relMse = 0, efficiency = 0, efficiencyRel = 0;
     double rays = 0;
     double relativeBias = 0, biasStdError = 0, biasZ = 0;
     bool biasSignificant = false;
