@@ -34,9 +34,9 @@ def style(name):
     return STYLE.get(name, ("#333333", "."))
 
 
-def save(fig, out_dir, stem):
+def save(fig, out_dir, stem, dpi=110):
     for ext in ("png", "svg"):
-        fig.savefig(os.path.join(out_dir, f"{stem}.{ext}"), dpi=130, bbox_inches="tight", metadata={"Date": None} if ext == "svg" else None)
+        fig.savefig(os.path.join(out_dir, f"{stem}.{ext}"), dpi=dpi, bbox_inches="tight", metadata={"Date": None} if ext == "svg" else None)
     plt.close(fig)
 
 
@@ -112,17 +112,13 @@ def heatmaps(data, out_dir):
     for ax in axes.ravel():
         ax.axis("off")
     for ax, (est, m) in zip(axes.ravel(), maps.items()):
-        im = ax.imshow(m, cmap="inferno", vmin=0, vmax=vmax)
+        im = ax.imshow(m, cmap="inferno", vmin=0, vmax=vmax, interpolation="nearest")
         ax.set_title(f"{est}\nmean {m.mean():.3f}", fontsize=8)
-        single, sax = plt.subplots(figsize=(3, 3))
-        sax.imshow(m, cmap="inferno", vmin=0, vmax=vmax)
-        sax.axis("off")
-        sax.set_title(f"{est}, {hm['spp']} spp", fontsize=8)
-        single.savefig(os.path.join(out_dir, "heatmaps", f"{est}.png"), dpi=100, bbox_inches="tight")
-        plt.close(single)
+        # One image per estimator at its own resolution, same colour scale as the figure.
+        plt.imsave(os.path.join(out_dir, "heatmaps", f"{est}.png"), m, cmap="inferno", vmin=0, vmax=vmax)
     fig.colorbar(im, ax=axes.ravel().tolist(), shrink=0.8, label="|Y - Y_ref| / (Y_ref + 0.01)")
     fig.suptitle(f"Per-pixel relative error at {hm['spp']} spp (one render each)", fontsize=9)
-    save(fig, out_dir, "heatmaps")
+    save(fig, out_dir, "heatmaps", dpi=90)
 
 
 def crops(data, out_dir):

@@ -15,21 +15,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-    int code;
-    std::string err, out;
-};
+using test::CliRun;
 
-CliRun runArgs(std::vector<std::string> args) {
-    args.insert(args.begin(), "symphong");
-    std::vector<const char*> argv;
-    for (const auto& a : args) argv.push_back(a.c_str());
-    testing::internal::CaptureStderr();
-    testing::internal::CaptureStdout();
-    const int code = runCli(static_cast<int>(argv.size()), argv.data());
-    CliRun r{code, testing::internal::GetCapturedStderr(), testing::internal::GetCapturedStdout()};
-    return r;
-}
+CliRun runArgs(std::vector<std::string> args) { return test::runCliArgs(std::move(args)); }
 
 class Cli : public ::testing::Test {
 protected:

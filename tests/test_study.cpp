@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -292,15 +293,8 @@ TEST(Study, BadConfigurationsAreInputErrors) {
 
 TEST(Study, CommandLineRejectsBadInput) {
     const auto run = [](std::vector<std::string> args) {
-        args.insert(args.begin(), "symphong");
-        std::vector<const char*> argv;
-        for (const auto& a : args) argv.push_back(a.c_str());
-        testing::internal::CaptureStderr();
-        testing::internal::CaptureStdout();
-        const int code = runCli(static_cast<int>(argv.size()), argv.data());
-        const std::string err = testing::internal::GetCapturedStderr();
-        testing::internal::GetCapturedStdout();
-        return std::make_pair(code, err);
+        const test::CliRun r = test::runCliArgs(std::move(args));
+        return std::make_pair(r.code, r.err);
     };
     const std::string out = freshDir("cli").string();
     auto [code, err] = run({"study", "--estimators", "cosine,bogus", "-o", out});
@@ -314,4 +308,29 @@ TEST(Study, CommandLineRejectsBadInput) {
     EXPECT_EQ(code, 2);
     EXPECT_NE(err.find("none.exr"), std::string::npos);
     fs::remove_all(out);
+}
+
+// Ctrl-C through the command line: SIGINT stops the study, exit code 130, finished rows kept.
+TEST(Study, InterruptFromTheCommandLineKeepsTheFinishedRows) {
+    const fs::path dir = freshDir("sigint");
+    std::atomic<bool> done{false};
+    std::thread interrupter([&] {
+        for (int i = 0; i < 30000 && !done; ++i) {
+            const std::string csv = fs::exists(dir / "results.csv") ? readAll(dir / "results.csv") : std::string();
+            if (std::count(csv.begin(), csv.end(), '\n') > 2) {
+                std::raise(SIGINT);
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+    });
+    const test::CliRun r = test::runCliArgs({"study", "-e", "cosine,phong", "--spp", "1,2,4,8,16,32,64,128,256,512,1024,2048", "-R", "2",
+                                             "-W", "16", "-H", "16", "--reference-spp", "16", "--no-plots", "-o", dir.string()});
+    done = true;
+    interrupter.join();
+    EXPECT_EQ(r.code, 130) << r.err;
+    EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+    const std::string csv = readAll(dir / "results.csv");
+    EXPECT_GE(std::count(csv.begin(), csv.end(), '\n'), 3);
+    fs::remove_all(dir);
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "accel/accel.h"
+#include "cli/cli.h"
 #include "estimators/estimator.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -12,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace symphong::test {
 
@@ -71,6 +73,23 @@ inline RenderResult renderTiny(const Scene& scene, const std::string& estimator,
     rs.trace.nextEvent = nee;
     rs.trace.maxDepth = maxDepth;
     return render(scene, accel, *est, rs);
+}
+
+/// The command line run in process, with its exit code and captured output.
+struct CliRun {
+    int code;
+    std::string err, out;
+};
+
+inline CliRun runCliArgs(std::vector<std::string> args) {
+    args.insert(args.begin(), "symphong");
+    std::vector<const char*> argv;
+    for (const auto& a : args) argv.push_back(a.c_str());
+    testing::internal::CaptureStderr();
+    testing::internal::CaptureStdout();
+    const int code = runCli(static_cast<int>(argv.size()), argv.data());
+    std::string err = testing::internal::GetCapturedStderr();
+    return {code, err, testing::internal::GetCapturedStdout()};
 }
 
 }  // namespace symphong::test
