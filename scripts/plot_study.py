@@ -90,6 +90,7 @@ def efficiency(data, out_dir):
         ax.set_ylabel(f"efficiency {what}\nrelative to cosine")
         ax.axhline(1.0, color="black", lw=0.6)
         ax.grid(True, axis="y", which="both", alpha=0.25)
+    fig.subplots_adjust(wspace=0.4)
     fig.suptitle(f"{data['config']['scene']}: efficiency at {top} spp (higher is better)", fontsize=9)
     save(fig, out_dir, "efficiency")
 

@@ -149,7 +149,7 @@ void addFurnaceCommand(CLI::App& app, FurnaceOptions& o) {
         "time per estimate and the efficiency 1/(var x time). One estimate is one call of a set-returning estimator\n"
         "(paper, symmetric*) or the mean of --directions calls of the others (stratified stratifies them).\n"
         "Environments: constant (L = 1), gradient (quadratic sky), disk (small disk light), band (horizon band),\n"
-        "halfspace. --grid runs n in {1,10,100,1000,10000} x theta in {0,30,60,85}.");
+        "halfspace. --grid runs n in {1,10,100,1000,10000} x theta in {0,30,60,85}.\n");
     f->add_option("--estimator,-e", o.estimators, "estimators, comma-separated, or all")->capture_default_str();
     f->add_option("--environment", o.environments, "environments, comma-separated, or all")->capture_default_str();
     f->add_option("--rho-d", o.rhoD, "diffuse albedo")->check(CLI::Range(0.0, 1.0))->capture_default_str();
@@ -253,7 +253,7 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
         "writes into DIR: results.csv and results.json (one row per estimator x spp x repeat), convergence plots against\n"
         "samples and time with the 1/sqrt(N) slope, an efficiency bar chart (PNG and SVG), per-pixel error heat maps,\n"
         "crops of the renders, and report.md with a conclusion computed from the numbers. Ctrl-C stops cleanly and keeps\n"
-        "the finished rows. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.");
+        "the finished rows. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.\n");
     s->add_option("scene", o.config.scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
     s->add_option("--estimators,-e", o.estimators, "estimators, comma-separated, or all")->capture_default_str();
     s->add_option("--spp", o.spps, "samples per pixel, comma-separated")->delimiter(',')->check(CLI::Range(1u, 1000000u))->capture_default_str();
