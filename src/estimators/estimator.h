@@ -41,7 +41,9 @@ public:
     virtual std::string_view name() const = 0;
 
     /// Appends this strategy's directions for one shading point to `out` (which it does not clear).
-    /// A direction below the surface may be omitted: it carries zero weight.
+    /// A direction below the surface may be omitted (for an unbiased estimator it carries zero weight;
+    /// `paper` returns its below-horizon directions with the weights its formula gives them). With
+    /// ctx.branch false, at most one direction.
     virtual void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const = 0;
 
     /// The misPdf that sample() would attach to direction wi at this point (0 where it never samples).

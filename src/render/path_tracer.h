@@ -6,6 +6,7 @@
 
 #include "accel/accel.h"
 #include "estimators/estimator.h"
+#include "math/frame.h"
 #include "sampling/distribution1d.h"
 #include "scene/scene.h"
 
@@ -66,7 +67,7 @@ private:
         PathScratch& scratch;
     };
     Color radiance(const Vec3& o, const Vec3& d, int depth, double prevMisPdf, const Color& throughput, PathContext& pc) const;
-    Color sampleEmitter(const Vec3& p, const Vec3& ng, const class Frame& frame, const ShadingContext& sc, PathContext& pc) const;
+    Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, PathContext& pc) const;
 
     const Scene& scene_;
     const Accel& accel_;

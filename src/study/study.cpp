@@ -325,17 +325,20 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
 
     // Cost per camera sample of each estimator, from a small pilot render, so the progress bar's ETA
     // accounts for estimators that trace 24 paths per sample.
-    std::map<std::string, double> cost;
-    double total = 0;
-    for (const auto& e : c.estimators) {
+    const auto pilotCost = [&](const std::string& name) {
         RenderSettings pilot = base;
         pilot.width = pilot.height = 24;
         pilot.spp = 2;
         pilot.seed = 99;
         pilot.cancel = nullptr;
-        const auto est = makeEstimator(e, c.options);
+        const auto est = makeEstimator(name, c.options);
         const RenderResult r = render(scene, accel, *est, pilot);
-        cost[e] = std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
+        return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
+    };
+    std::map<std::string, double> cost;
+    double total = 0;
+    for (const auto& e : c.estimators) {
+        cost[e] = pilotCost(e);
         for (auto s : c.spps) total += cost[e] * s * c.width * c.height * c.repeats;
     }
 
@@ -375,15 +378,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
             haveReference = false;  // a damaged cache is re-rendered
         }
     }
-    const double refCost = haveReference ? 0.0 : cost.count(c.referenceEstimator) ? cost[c.referenceEstimator] : [&] {
-        RenderSettings pilot = base;
-        pilot.width = pilot.height = 24;
-        pilot.spp = 2;
-        pilot.cancel = nullptr;
-        const auto est = makeEstimator(c.referenceEstimator, c.options);
-        const RenderResult r = render(scene, accel, *est, pilot);
-        return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
-    }();
+    const double refCost = haveReference ? 0.0 : cost.count(c.referenceEstimator) ? cost[c.referenceEstimator] : pilotCost(c.referenceEstimator);
     const double refWork = refCost * c.referenceSpp * c.width * c.height;
     total += refWork;
 
