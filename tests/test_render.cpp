@@ -2,6 +2,7 @@
 // all estimators on a 32x32 Cornell box within statistics, light sampling vs none (MIS is unbiased),
 // and bit-for-bit determinism across thread counts.
 #include "scene/scene.h"
+#include "study/metrics.h"
 #include "stats.h"
 #include "test_util.h"
 
@@ -23,10 +24,7 @@ test::MeanStd blockMean(const RenderResult& r, int x0, int y0, int w, int h) {
     for (int y = y0; y < y0 + h; ++y)
         for (int x = x0; x < x0 + w; ++x) {
             sum += luminance(r.image.at(x, y));
-            const Color v = r.variance.at(x, y);
-            // Var of luminance <= (sum of weights * sqrt var)^2 by Cauchy-Schwarz: a conservative bound.
-            const double sd = 0.2126 * std::sqrt(v.x) + 0.7152 * std::sqrt(v.y) + 0.0722 * std::sqrt(v.z);
-            var += sd * sd;
+            var += luminanceVariance(r.variance.at(x, y));  // channels of a path taken as fully correlated
         }
     const double n = static_cast<double>(w) * h;
     return {sum / n, std::sqrt(var) / n, static_cast<std::size_t>(n)};

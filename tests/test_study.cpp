@@ -334,3 +334,8 @@ TEST(Study, InterruptFromTheCommandLineKeepsTheFinishedRows) {
     EXPECT_GE(std::count(csv.begin(), csv.end(), '\n'), 3);
     fs::remove_all(dir);
 }
+
+TEST(StudyMetrics, LuminanceVarianceTakesTheChannelsAsCorrelated) {
+    EXPECT_NEAR(luminanceVariance(Color(0.04)), 0.04, 1e-15);  // grey: Var(Y) = Var(X) when X = R = G = B
+    EXPECT_NEAR(luminanceVariance(Color(0, 0.01, 0)), 0.7152 * 0.7152 * 0.01, 1e-15);
+}

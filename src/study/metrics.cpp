@@ -14,6 +14,11 @@ void checkSameSize(const Image& a, const Image& b) {
 
 }  // namespace
 
+double luminanceVariance(const Color& v) {
+    const double sd = 0.2126 * std::sqrt(v.x) + 0.7152 * std::sqrt(v.y) + 0.0722 * std::sqrt(v.z);
+    return sd * sd;
+}
+
 ImageError imageError(const Image& img, const Image& ref) {
     checkSameSize(img, ref);
     ImageError e;
@@ -39,13 +44,7 @@ MeanWithError meanLuminance(const Image& img, const Image* varianceOfMean) {
     double sum = 0, var = 0;
     for (std::size_t i = 0; i < n; ++i) {
         sum += luminance(img.pixels[i]);
-        if (varianceOfMean) {
-            // Var(Y) for Y = sum w_c X_c with channel variances v_c, bounded by (sum w_c sqrt v_c)^2
-            // (the channels of one path are correlated; this bound is exact when fully correlated).
-            const Color v = varianceOfMean->pixels[i];
-            const double sd = 0.2126 * std::sqrt(v.x) + 0.7152 * std::sqrt(v.y) + 0.0722 * std::sqrt(v.z);
-            var += sd * sd;
-        }
+        if (varianceOfMean) var += luminanceVariance(varianceOfMean->pixels[i]);
     }
     m.mean = sum / n;
     m.stdError = std::sqrt(var) / n;

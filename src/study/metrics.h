@@ -15,6 +15,10 @@ struct ImageError {
     double relMse = 0;  ///< mean over pixels of (Y - Y_ref)^2 / (Y_ref^2 + 0.01)  (Rousselle et al.)
 };
 
+/// Variance of a pixel's luminance from its per-channel variances, taking the channels as fully
+/// correlated (one path carries all three): (sum_c w_c sqrt(v_c))^2.
+double luminanceVariance(const Color& channelVariance);
+
 /// Errors of `img` against `ref` (same size; throws std::invalid_argument otherwise).
 ImageError imageError(const Image& img, const Image& ref);
 

@@ -406,7 +406,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         }
         reference = r.image;
         refMean = meanLuminance(r.image, &r.variance);
-        for (const Color& v : r.variance.pixels) refNoise += luminance(v) / static_cast<double>(r.variance.pixels.size());
+        for (const Color& v : r.variance.pixels) refNoise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
         writeExr(reference, refExr.string(), false);
         writeTextFile(refJson.string(), nlohmann::json{{"key", refKey}, {"mean_luminance", refMean.mean}, {"mean_std_error", refMean.stdError},
                                                        {"pixel_variance", refNoise}, {"seconds", r.stats.seconds}}
@@ -486,7 +486,8 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 row.relMse = err.relMse;
                 row.efficiency = 1.0 / (row.mse * std::max(row.seconds, 1e-9));
                 row.efficiencyRel = row.relMse > 0 ? 1.0 / (row.relMse * std::max(row.seconds, 1e-9)) : 0.0;
-                for (const Color& v : r.variance.pixels) row.pixelVarianceWithin += luminance(v) / static_cast<double>(r.variance.pixels.size());
+                for (const Color& v : r.variance.pixels)
+                    row.pixelVarianceWithin += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
                 means.push_back(m);
                 if (spp == heatSpp && rep == 0) {
                     writePng(r.image, (dir / "renders" / (name + ".png")).string());
