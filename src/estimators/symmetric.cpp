@@ -28,26 +28,52 @@ double PaperEstimator::lobeNormalisation(double n, bool refined) {
     return kTwoPi / (n + 1.0) * (1.0 - 0.5 * (a + b));     // the conclusion's estimate
 }
 
+namespace {
+
+/// The paper's three weighted directions from one point (u_j, v_j) and octant k, shared by the whole
+/// estimate and by the one-direction form used at deeper bounces.
+struct PaperTerms {
+    Color rhoD, rhoS;       ///< the paper's rho_d (= ours / pi) and rho_s (= ours (n+2)/(2 pi))
+    double diffuseScale;    ///< Eq. (4): pi / (48 N')
+    double specularScale;   ///< Eq. (7): 2 pi (1 - (sqrt3/3)^(n+1)) / ((n+1) N), N = 8N'
+    LobeFrame lobe;
+
+    PaperTerms(const ShadingContext& ctx, int nPrime, bool refined)
+        : rhoD(ctx.material->rhoD * kInvPi),
+          rhoS(ctx.material->rhoS * ((ctx.material->exponent + 2.0) / kTwoPi)),
+          diffuseScale(kPi / (48.0 * nPrime)),
+          specularScale(PaperEstimator::lobeNormalisation(ctx.material->exponent, refined) / (8.0 * nPrime)),
+          lobe(LobeFrame::fromMirror(mirrorOf(ctx.wo))) {}
+
+    // Each takes the point's map image in octant 0 (computed once per point) and its weight w(u,v).
+    /// (1/2) L_tri w(u,v) of Eq. (4), from paperTriangleMap.
+    DirectionSample triangle(const Vec3& tri, double w, int k) const {
+        return {toOctant(tri, k), rhoD * (diffuseScale * 0.5 * w), 0.0};
+    }
+    /// L_quad w(u,v) of Eq. (4), from paperQuadrangleMap.
+    DirectionSample quadrangle(const Vec3& quad, double w, int k) const {
+        return {toOctant(quad, k), rhoD * (diffuseScale * w), 0.0};
+    }
+    /// L Z' of Eq. (7): the triangle direction rotated by R_X(theta_s); Z' as printed, negative below.
+    DirectionSample specular(const Vec3& tri, int k) const {
+        const Vec3 d = lobe.toLocal(toOctant(tri, k));
+        return {d, rhoS * (specularScale * d.z), 0.0};
+    }
+};
+
+}  // namespace
+
 void PaperEstimator::allDirections(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
-    const PhongMaterial& m = *ctx.material;
-    const Color rhoD = m.rhoD * kInvPi;                                   // the paper's rho_d
-    const Color rhoS = m.rhoS * ((m.exponent + 2.0) / kTwoPi);           // the paper's rho_s
-    const bool specular = m.hasSpecular();
-    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
-    const double np = nPrime_;
-    const double diffuseScale = kPi / (48.0 * np);                        // Eq. (4): rho_d pi / (48 N')
-    const double specularScale = lobeNormalisation(m.exponent, refined_) / (8.0 * np);  // Eq. (7) over N = 8N'
+    const PaperTerms terms(ctx, nPrime_, refined_);
+    const bool specular = ctx.material->hasSpecular();
     for (int j = 0; j <= nPrime_; ++j) {  // Eq. (4) sums j = 0..N' as printed: N'+1 points
         const Point2 p = rng.uniform2();
         const double w = paperWeight(p);
         const Vec3 tri = paperTriangleMap(p), quad = paperQuadrangleMap(p);
         for (int k = 0; k < 8; ++k) {
-            out.push_back({toOctant(tri, k), rhoD * (diffuseScale * 0.5 * w), 0.0});  // (1/2) L_tri
-            out.push_back({toOctant(quad, k), rhoD * (diffuseScale * w), 0.0});       // L_quad
-            if (specular && j >= 1) {  // Eq. (7) sums j = 1..N'
-                const Vec3 d = lobe.toLocal(toOctant(tri, k));  // R_X(theta_s) P, in the local frame
-                out.push_back({d, rhoS * (specularScale * d.z), 0.0});  // Z' as printed, negative below
-            }
+            out.push_back(terms.triangle(tri, w, k));
+            out.push_back(terms.quadrangle(quad, w, k));
+            if (specular && j >= 1) out.push_back(terms.specular(tri, k));  // Eq. (7) sums j = 1..N'
         }
     }
 }
@@ -59,23 +85,17 @@ void PaperEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<Dir
     }
     // One of the K = 16(N'+1) + 8N' entries of allDirections, uniformly, its weight times K. The points
     // are independent, so an entry's point is a fresh one: draw only the chosen direction.
-    const PhongMaterial& m = *ctx.material;
-    const bool specular = m.hasSpecular();
+    const PaperTerms terms(ctx, nPrime_, refined_);
     const double np = nPrime_;
-    const double tri = 8.0 * (np + 1.0), spec = specular ? 8.0 * np : 0.0, total = 2.0 * tri + spec;
+    const double tri = 8.0 * (np + 1.0), spec = ctx.material->hasSpecular() ? 8.0 * np : 0.0, total = 2.0 * tri + spec;
     const double pick = rng.uniform() * total;
     const int k = std::min(7, static_cast<int>(rng.uniform() * 8.0));
     const Point2 p = rng.uniform2();
-    const double w = paperWeight(p);
-    if (pick < tri) {
-        out.push_back({toOctant(paperTriangleMap(p), k), m.rhoD * (kInvPi * kPi / (48.0 * np) * 0.5 * w * total), 0.0});
-    } else if (pick < 2.0 * tri) {
-        out.push_back({toOctant(paperQuadrangleMap(p), k), m.rhoD * (kInvPi * kPi / (48.0 * np) * w * total), 0.0});
-    } else {
-        const Vec3 d = LobeFrame::fromMirror(mirrorOf(ctx.wo)).toLocal(toOctant(paperTriangleMap(p), k));
-        const double scale = lobeNormalisation(m.exponent, refined_) / (8.0 * np);
-        out.push_back({d, m.rhoS * ((m.exponent + 2.0) / kTwoPi * scale * d.z * total), 0.0});
-    }
+    DirectionSample s = pick < tri         ? terms.triangle(paperTriangleMap(p), paperWeight(p), k)
+                        : pick < 2.0 * tri ? terms.quadrangle(paperQuadrangleMap(p), paperWeight(p), k)
+                                           : terms.specular(paperTriangleMap(p), k);
+    s.weight *= total;
+    out.push_back(s);
 }
 
 // ---------------------------------------------------------------------------------------------------
