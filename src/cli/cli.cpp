@@ -203,7 +203,7 @@ int runFurnaceCommand(const FurnaceOptions& o) {
     const std::vector<double> thetas = o.grid ? std::vector<double>{0, 30, 60, 85} : o.thetas;
     if (!o.json.empty()) {
         if (std::filesystem::is_directory(o.json)) throw InputError(fmt::format("--json {}: is a directory", o.json));
-        writeTextFile(o.json, "");  // fails now, not after the run, if it cannot be written
+        writeFile(o.json, "");  // fails now, not after the run, if it cannot be written
     }
     fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  (one-direction estimators: {} calls per estimate)\n", o.rhoD, o.rhoS,
                o.repeats, o.seed, o.directions);
@@ -234,7 +234,7 @@ int runFurnaceCommand(const FurnaceOptions& o) {
                     rows.push_back(toJson(r));
                 }
     }
-    if (!o.json.empty()) writeTextFile(o.json, rows.dump(2) + "\n");
+    if (!o.json.empty()) writeFile(o.json, rows.dump(2) + "\n");
     return 0;
 }
 

@@ -42,10 +42,10 @@ void writeAtomically(const std::string& path, const std::function<void(const std
     }
 }
 
-void writeTextFile(const std::string& path, const std::string& text) {
+void writeFile(const std::string& path, const std::string& bytes) {
     writeAtomically(path, [&](const std::string& tmp) {
         std::ofstream out(tmp, std::ios::binary);
-        out << text;
+        out << bytes;
         out.close();
         if (!out) throw std::runtime_error("write failed");
     });

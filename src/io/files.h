@@ -17,7 +17,7 @@ std::string temporaryPathFor(const std::string& path);
 /// failure removes the temporary file and throws InputError naming `path`.
 void writeAtomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);
 
-/// writeAtomically for a text.
-void writeTextFile(const std::string& path, const std::string& text);
+/// writeAtomically for the bytes of a string (text or binary).
+void writeFile(const std::string& path, const std::string& bytes);
 
 }  // namespace symphong

@@ -313,7 +313,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
     fs::create_directories(dir / "renders", ec);
     fs::create_directories(dir / "heatmaps", ec);
     if (ec || !fs::is_directory(dir)) throw InputError(fmt::format("--out {}: cannot create the directory", c.outDir));
-    writeTextFile((dir / "results.csv").string(), std::string(kStudyCsvHeader) + "\n");  // fails early if unwritable
+    writeFile((dir / "results.csv").string(), std::string(kStudyCsvHeader) + "\n");  // fails early if unwritable
 
     const Accel accel(scene);
     RenderSettings base;
@@ -408,7 +408,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         refMean = meanLuminance(r.image, &r.variance);
         for (const Color& v : r.variance.pixels) refNoise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
         writeExr(reference, refExr.string(), false);
-        writeTextFile(refJson.string(), nlohmann::json{{"key", refKey}, {"mean_luminance", refMean.mean}, {"mean_std_error", refMean.stdError},
+        writeFile(refJson.string(), nlohmann::json{{"key", refKey}, {"mean_luminance", refMean.mean}, {"mean_std_error", refMean.stdError},
                                                        {"pixel_variance", refNoise}, {"seconds", r.stats.seconds}}
                                                 .dump(2) +
                                             "\n");
@@ -421,7 +421,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
 
     const Crop crop{c.width / 3, c.height / 3, std::max(1, c.width / 3), std::max(1, c.height / 3)};
     const auto writeResults = [&] {
-        writeTextFile((dir / "results.csv").string(), studyCsv(outcome.rows));
+        writeFile((dir / "results.csv").string(), studyCsv(outcome.rows));
         nlohmann::json j;
         j["config"] = {{"scene", scene.name}, {"scene_spec", c.scene}, {"estimators", c.estimators}, {"spp", c.spps},
                        {"repeats", c.repeats}, {"width", c.width}, {"height", c.height}, {"max_depth", c.maxDepth}, {"seed", c.seed},
@@ -435,7 +435,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         for (const auto& s : outcome.summary) j["summary"].push_back(summaryJson(s));
         outcome.conclusion = studyConclusion(outcome.summary, c.spps);
         j["conclusion"] = outcome.conclusion;
-        writeTextFile((dir / "results.json").string(), j.dump(1) + "\n");
+        writeFile((dir / "results.json").string(), j.dump(1) + "\n");
     };
 
     for (std::uint32_t spp : c.spps) {
@@ -492,11 +492,8 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 if (spp == heatSpp && rep == 0) {
                     writePng(r.image, (dir / "renders" / (name + ".png")).string());
                     const std::vector<float> map = relativeErrorMap(r.image, reference);
-                    writeAtomically((dir / "heatmaps" / (name + ".f32")).string(), [&](const std::string& tmp) {
-                        std::ofstream out(tmp, std::ios::binary);
-                        out.write(reinterpret_cast<const char*>(map.data()), static_cast<std::streamsize>(map.size() * sizeof(float)));
-                        if (!out) throw std::runtime_error("write failed");
-                    });
+                    writeFile((dir / "heatmaps" / (name + ".f32")).string(),
+                              std::string(reinterpret_cast<const char*>(map.data()), map.size() * sizeof(float)));
                 }
                 images.push_back(r.image);
                 outcome.rows.push_back(row);
@@ -532,13 +529,13 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                                "no plots were made\n");
         } else {
             const std::string script = (dir / "plot_study.py").string();
-            writeTextFile(script, kPlotStudyScript);
+            writeFile(script, kPlotStudyScript);
             const std::string cmd = fmt::format("'{}' '{}' '{}'", py, script, dir.string());
             outcome.plotted = std::system(cmd.c_str()) == 0;
             if (!outcome.plotted) fmt::print(stderr, "symphong: warning: the plotting script failed: {}\n", cmd);
         }
     }
-    writeTextFile((dir / "report.md").string(),
+    writeFile((dir / "report.md").string(),
                   reportMarkdown(c, scene.name, outcome.summary, outcome.conclusion, referenceNote, refNoise, outcome.plotted, heatSpp,
                                  outcome.cancelled));
     return outcome;
