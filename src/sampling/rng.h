@@ -29,6 +29,8 @@ public:
         return {a, uniform()};
     }
     std::uint32_t bits() { return gen_(); }
+    /// Skips `draws` 32-bit outputs (two per uniform()) in O(log draws) steps.
+    void advance(std::uint64_t draws) { gen_.advance(draws); }
 
 private:
     pcg32 gen_;

@@ -1,0 +1,123 @@
+// sampling/sampler.h — samplers: where every random number of a render comes from. A sampler is a pure
+// function of (seed, pixel, sample index within the pixel, dimension) to a value in [0,1) or [0,1)^2,
+// so an image does not depend on how pixels are scheduled over threads, and any dimension can be
+// asked for in any order. Dimensions are handed out in pairs (2D) or singly (1D); the path tracer
+// gives each decision of a path (pixel position, light choice and point, the estimator's direction,
+// Russian roulette, ...) its own fixed dimension, so decisions never share a number.
+//   independent — PCG32: one stream per (pixel, sample), advanced to the dimension; no stratification.
+//   stratified  — correlated multi-jittered strata (Kensler 2013) of every dimension pair, padded: each
+//                 pair of each pixel gets its own hashed permutation, any spp (m x n grid, N-rooks in y).
+//   sobol       — the first two Sobol' dimensions, a (0,2)-sequence, Owen-scrambled by hashing; padded:
+//                 every pair (and every 1D dimension) of every pixel has its own scramble and its own
+//                 permutation of the pixel's sample indices (pbrt-v4's PaddedSobolSampler). The pixel's
+//                 spp points of a pair are the first spp points of a scrambled (0,2)-sequence.
+// docs/sampling.md says why, with measurements.
+#pragma once
+
+#include "sampling/rng.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace symphong {
+
+class Sampler {
+public:
+    Sampler(std::uint32_t samplesPerPixel, std::uint64_t seed) : spp_(samplesPerPixel ? samplesPerPixel : 1), seed_(seed) {}
+    virtual ~Sampler() = default;
+
+    virtual std::string_view name() const = 0;
+    /// Value of dimension `dim` of sample `index` (< samplesPerPixel) of pixel `pixel`, in [0,1).
+    virtual double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const = 0;
+    /// Values of the dimension pair (dim, dim+1), in [0,1)^2.
+    virtual Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const = 0;
+
+    std::uint32_t samplesPerPixel() const { return spp_; }
+    std::uint64_t seed() const { return seed_; }
+
+private:
+    std::uint32_t spp_;
+    std::uint64_t seed_;
+};
+
+/// Independent uniform values: PCG32 stream `pixel` seeded from (seed, sample index), advanced by
+/// two draws per dimension. Values of different dimensions or samples are independent.
+class IndependentSampler final : public Sampler {
+public:
+    using Sampler::Sampler;
+    std::string_view name() const override { return "independent"; }
+    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+};
+
+/// Jittered strata in every dimension pair: Kensler's correlated multi-jittered pattern with an
+/// m x n grid, m = floor(sqrt(N)), n = ceil(N/m), each sample alone in its x column x row cell and in
+/// its own y stratum of 1/N (for N = m n exactly multi-jittered; otherwise the first N cells in the
+/// permuted order). 1D dimensions: a permuted, jittered stratum of 1/N each.
+class StratifiedSampler final : public Sampler {
+public:
+    using Sampler::Sampler;
+    std::string_view name() const override { return "stratified"; }
+    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+};
+
+/// Padded, Owen-scrambled Sobol' (0,2)-sequence: pair (dim, dim+1) of sample i is
+///   (owen(sobol0(j), s0), owen(sobol1(j), s1)),  j = permute(i, spp, s2),
+/// with s0, s1, s2 hashed from (seed, pixel, dim); a 1D dimension is owen(sobol0(j), s0).
+class SobolSampler final : public Sampler {
+public:
+    using Sampler::Sampler;
+    std::string_view name() const override { return "sobol"; }
+    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+};
+
+/// Names accepted by makeSampler, in the order --help lists them.
+const std::vector<std::string>& samplerNames();
+/// One line per sampler for --help.
+std::string samplerHelp();
+/// The sampler used when none is named.
+inline constexpr std::string_view kDefaultSampler = "sobol";
+/// Creates a sampler; throws std::invalid_argument listing the valid names.
+std::unique_ptr<Sampler> makeSampler(std::string_view name, std::uint32_t samplesPerPixel, std::uint64_t seed);
+
+/// One camera sample's view of a sampler: the pixel and sample index fixed, dimensions handed out in
+/// order from a position the caller sets. What estimators and the path tracer draw from.
+class SampleStream {
+public:
+    SampleStream(const Sampler& sampler, std::uint64_t pixel, std::uint32_t index, std::uint64_t dim = 0)
+        : sampler_(&sampler), pixel_(pixel), index_(index), dim_(dim) {}
+
+    void setDimension(std::uint64_t dim) { dim_ = dim; }
+    std::uint64_t dimension() const { return dim_; }
+    double get1D() { return sampler_->sample1D(pixel_, index_, dim_++); }
+    Point2 get2D() {
+        const Point2 p = sampler_->sample2D(pixel_, index_, dim_);
+        dim_ += 2;
+        return p;
+    }
+    /// The next pair's values for another sample `index` of the same pixel (< samplesPerPixel): a value
+    /// shared by a group of samples, as the spread symmetric pattern needs.
+    Point2 get2DOf(std::uint32_t index) {
+        const Point2 p = sampler_->sample2D(pixel_, index, dim_);
+        dim_ += 2;
+        return p;
+    }
+
+    std::uint64_t pixel() const { return pixel_; }
+    std::uint32_t sampleIndex() const { return index_; }
+    std::uint32_t samplesPerPixel() const { return sampler_->samplesPerPixel(); }
+    std::uint64_t seed() const { return sampler_->seed(); }
+
+private:
+    const Sampler* sampler_;
+    std::uint64_t pixel_;
+    std::uint32_t index_;
+    std::uint64_t dim_;
+};
+
+}  // namespace symphong
