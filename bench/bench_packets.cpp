@@ -34,11 +34,13 @@ Batch makeBatch(std::size_t points) {
     const SymmetricEstimator est(1, false);
     PhongMaterial m;
     Rng rng(5, 6);
+    const IndependentSampler sampler(1, 7);
     std::vector<DirectionSample> out;
     for (std::size_t i = 0; i < points; ++i) {
         b.origins.push_back(Vec3(50 + 450 * rng.uniform(), 1e-2, 50 + 450 * rng.uniform()));
         out.clear();
-        est.sample(ShadingContext{Vec3(0, 0, 1), &m, 0, 0, 1, true}, rng, out);
+        SampleStream samples(sampler, i, 0);
+        est.sample(ShadingContext{Vec3(0, 0, 1), &m, 0, true}, samples, out);
         const Frame f = Frame::fromNormal(Vec3(0, 1, 0));
         std::array<Vec3, 16> d{};
         for (int k = 0; k < 16; ++k) d[k] = f.toWorld(out[k].wi);

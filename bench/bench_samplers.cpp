@@ -1,5 +1,6 @@
 // Directions per second of each warp and each estimator (Google Benchmark). Counters report
-// directions/s, so estimators that return several directions per call compare fairly.
+// directions/s, so estimators that return several directions per call compare fairly. Estimators draw
+// from the independent sampler (a PCG32 generator seeded per value); bench_sampler times the samplers.
 #include "estimators/estimator.h"
 #include "sampling/warp.h"
 
@@ -26,13 +27,15 @@ void BM_UniformTriangle(benchmark::State& s) { warpLoop(s, sampleUniformTriangle
 
 void estimatorLoop(benchmark::State& state, const std::string& name, const PhongMaterial& m) {
     const auto est = makeEstimator(name);
-    const ShadingContext ctx{normalize(Vec3(0.3, 0.2, 0.9)), &m, 0, 3, 16, true};
-    Rng rng(3, 4);
+    const ShadingContext ctx{normalize(Vec3(0.3, 0.2, 0.9)), &m, 0, true};
+    const IndependentSampler sampler(16, 3);
     std::vector<DirectionSample> out;
     std::size_t directions = 0;
+    std::uint64_t pixel = 0;
     for (auto _ : state) {
         out.clear();
-        est->sample(ctx, rng, out);
+        SampleStream samples(sampler, pixel++, 3);
+        est->sample(ctx, samples, out);
         directions += out.size();
         benchmark::DoNotOptimize(out.data());
     }

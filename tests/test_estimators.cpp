@@ -4,6 +4,7 @@
 // and view angles up to 85 degrees. Also: the weights and MIS densities estimators report agree.
 #include "estimators/estimator.h"
 #include "sampling/warp.h"
+#include "sample_util.h"
 #include "stats.h"
 
 #include <gtest/gtest.h>
@@ -29,57 +30,83 @@ std::vector<FurnaceCase> furnaceCases() {
     return cases;
 }
 
-class EstimatorFurnace : public ::testing::TestWithParam<std::string> {};
+/// An estimator in a mode, under a sampler.
+struct Config {
+    std::string estimator, sampler;
+    SymmetricMode mode = SymmetricMode::Branch;
+    std::string label() const {
+        std::string n = estimator + "_" + sampler + (mode == SymmetricMode::Spread ? "_spread" : "");
+        std::replace(n.begin(), n.end(), '-', '_');
+        return n;
+    }
+};
 
-/// Every estimator but `paper`, which is biased on purpose.
-std::vector<std::string> unbiasedEstimators() {
-    std::vector<std::string> names;
-    for (const auto& n : estimatorNames())
-        if (n != "paper") names.push_back(n);
-    return names;
+/// Every estimator but `paper` (biased on purpose) under every sampler; the set estimators in both modes.
+std::vector<Config> unbiasedConfigs() {
+    std::vector<Config> configs;
+    for (const auto& e : estimatorNames()) {
+        if (e == "paper") continue;
+        for (const auto& s : samplerNames()) {
+            if (e == "stratified" && s != "stratified") continue;  // bound to its own sampler
+            configs.push_back({e, s});
+            if (e == "symmetric" || e == "symmetric-shifted") configs.push_back({e, s, SymmetricMode::Spread});
+        }
+    }
+    return configs;
 }
+
+class EstimatorFurnace : public ::testing::TestWithParam<Config> {};
 
 }  // namespace
 
-// One estimate = the mean of a group of 16 calls with sample indices 0..15 of 16 (so the stratified
-// estimator sees whole pixels); groups are independent, so their spread gives the standard error.
-// Half the groups let estimators return their whole direction set (first hit), half one direction
-// (deeper bounces): both must be unbiased.
+// One estimate = the mean of a group of 16 calls: the 16 camera samples of one pixel of the sampler
+// (so stratified and sobol stratify them, and spread mode spreads its set over them); groups are
+// different pixels, independent, so their spread gives the standard error. Half the groups are first
+// hits (set estimators return their whole set, or spread it), half deeper bounces (one direction).
 TEST_P(EstimatorFurnace, MatchesTheDirectionalAlbedo) {
-    const auto estimator = makeEstimator(GetParam());
-    Rng rng(1234, 5);
-    std::vector<DirectionSample> out;
+    const Config& c = GetParam();
+    EstimatorOptions options;
+    options.symmetricMode = c.mode;
+    const auto estimator = makeEstimator(c.estimator, options);
     constexpr std::uint32_t kGroup = 16;
+    test::Streams streams(1234, c.sampler, kGroup);
+    std::vector<DirectionSample> out;
     // Estimators that return a whole set of directions per call need fewer calls for the same precision.
-    const int kGroups = estimator->returnsSets() ? 4000 : 20000;
-    for (const FurnaceCase& c : furnaceCases()) {
+    const int kGroups = estimator->returnsSets() ? 2000 : 6000;
+    for (const FurnaceCase& fc : furnaceCases()) {
         PhongMaterial m;
-        m.rhoD = Color(c.kd);
-        m.rhoS = Color(c.ks);
-        m.exponent = c.n;
-        const Vec3 wo = sphericalDirection(std::cos(c.thetaDeg * kPi / 180), 0.7);
+        m.rhoD = Color(fc.kd);
+        m.rhoS = Color(fc.ks);
+        m.exponent = fc.n;
+        const Vec3 wo = sphericalDirection(std::cos(fc.thetaDeg * kPi / 180), 0.7);
         const double exact = phongDirectionalAlbedo(m, wo).x;
         for (bool branch : {true, false}) {
             std::vector<double> groups(kGroups / 2);
             for (double& g : groups) {
+                streams.nextPixel();
                 double sum = 0;
                 for (std::uint32_t i = 0; i < kGroup; ++i) {
                     out.clear();
-                    estimator->sample(ShadingContext{wo, &m, 0, i, kGroup, branch}, rng, out);
+                    SampleStream samples = streams.at(i);
+                    estimator->sample(ShadingContext{wo, &m, branch ? 0 : 1, branch}, samples, out);
                     for (const auto& s : out) sum += s.weight.x;
                 }
                 g = sum / kGroup;
             }
             const auto s = test::meanAndError(groups);
-            const std::string what = fmt::format("{} (branch {}): kd {} ks {} n {} theta {} -> {} +- {} vs exact {}", GetParam(),
-                                                 branch, c.kd, c.ks, c.n, c.thetaDeg, s.mean, s.stdError, exact);
+            const std::string what = fmt::format("{} (branch {}): kd {} ks {} n {} theta {} -> {} +- {} vs exact {}", c.label(), branch,
+                                                 fc.kd, fc.ks, fc.n, fc.thetaDeg, s.mean, s.stdError, exact);
             EXPECT_NEAR(s.mean, exact, 4 * s.stdError + 1e-9 * exact) << what;
         }
     }
 }
 
 TEST_P(EstimatorFurnace, WeightsAreBrdfCosineOverTheReportedDensity) {
-    const auto estimator = makeEstimator(GetParam());
+    const Config& c = GetParam();
+    EstimatorOptions options;
+    options.symmetricMode = c.mode;
+    const auto estimator = makeEstimator(c.estimator, options);
+    test::Streams streams(77, c.sampler, 8);
     Rng rng(77, 7);
     PhongMaterial m;
     m.rhoD = Color(0.3);
@@ -89,9 +116,11 @@ TEST_P(EstimatorFurnace, WeightsAreBrdfCosineOverTheReportedDensity) {
     for (bool branch : {false, true})
         for (int k = 0; k < 2000; ++k) {
             const Vec3 wo = sampleUniformHemisphere(rng.uniform2());
-            const ShadingContext ctx{wo, &m, branch ? 0 : 1, 0, 1, branch};
+            const ShadingContext ctx{wo, &m, branch ? 0 : 1, branch};
             out.clear();
-            estimator->sample(ctx, rng, out);
+            streams.nextPixel();
+            SampleStream samples = streams.at(static_cast<std::uint32_t>(k % 8));
+            estimator->sample(ctx, samples, out);
             if (!branch || !estimator->returnsSets()) {
                 ASSERT_LE(out.size(), 1u) << "without a set an estimator returns at most one direction";
             }
@@ -115,12 +144,8 @@ TEST(EstimatorRegistry, UnknownNameListsTheValidOnes) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllUnbiasedEstimators, EstimatorFurnace, ::testing::ValuesIn(unbiasedEstimators()),
-                         [](const auto& info) {
-                             std::string n = info.param;
-                             std::replace(n.begin(), n.end(), '-', '_');
-                             return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(EveryEstimatorAndSampler, EstimatorFurnace, ::testing::ValuesIn(unbiasedConfigs()),
+                         [](const auto& info) { return info.param.label(); });
 
 // At deeper bounces `paper` keeps one of its directions: the same expectation as the whole set.
 TEST(PaperEstimator, OneDirectionHasTheSameMeanAsTheWholeSet) {
@@ -130,13 +155,14 @@ TEST(PaperEstimator, OneDirectionHasTheSameMeanAsTheWholeSet) {
     m.rhoS = Color(0.4);
     m.exponent = 20;
     const Vec3 wo = sphericalDirection(std::cos(0.5), 0.3);
-    Rng rng(31, 31);
+    test::Streams streams(31);
     std::vector<DirectionSample> out;
     for (bool branch : {true, false}) {
         std::vector<double> v(branch ? 50000 : 2000000);
         for (double& x : v) {
             out.clear();
-            paper->sample(ShadingContext{wo, &m, branch ? 0 : 1, 0, 1, branch}, rng, out);
+            SampleStream samples = streams.next();
+            paper->sample(ShadingContext{wo, &m, branch ? 0 : 1, branch}, samples, out);
             x = 0;
             for (const auto& s : out) x += s.weight.x;
         }

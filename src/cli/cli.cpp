@@ -32,6 +32,7 @@ constexpr long kMaxPixels = 64L * 1024 * 1024;
 struct RenderOptions {
     std::string scene = "cornell";
     std::string estimator = "phong";
+    std::string sampler = std::string(kDefaultSampler);
     std::uint32_t spp = 64;
     int width = 512, height = 512;
     int maxDepth = 16;
@@ -49,6 +50,25 @@ void addEstimatorOptions(CLI::App* cmd, EstimatorOptions& o) {
         ->check(CLI::Range(1, 4096))
         ->capture_default_str();
     cmd->add_flag("--paper-refined", o.paperRefined, "paper: use the conclusion's finer lobe normalisation instead of Eq. (6)'s");
+    cmd->add_option_function<std::string>(
+           "--symmetric-mode",
+           [&o](const std::string& name) {
+               try {
+                   o.symmetricMode = parseSymmetricMode(name);
+               } catch (const std::invalid_argument& e) {
+                   throw CLI::ValidationError("--symmetric-mode", e.what());
+               }
+           },
+           "paper, symmetric*: 'branch' (a camera sample traces the whole set from its first hit) or 'spread' (the set is "
+           "spread over a pixel's camera samples, one piece each) [default: branch]")
+        ->type_name("MODE");
+}
+
+/// --sampler NAME, checked against the sampler names.
+CLI::Option* addSamplerOption(CLI::App* cmd, std::string& sampler) {
+    return cmd->add_option("--sampler", sampler, "sample generator: " + fmt::format("{}", fmt::join(samplerNames(), ", ")))
+        ->check(CLI::IsMember(samplerNames()))
+        ->capture_default_str();
 }
 
 std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const EstimatorOptions& options) {
@@ -65,10 +85,12 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
         "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), or a .json scene file.\n"
         "PNG output is 8-bit sRGB: linear radiance is multiplied by --exposure, clamped to [0,1], then sRGB-encoded.\n"
         "EXR output is linear RGB, 32-bit float (16-bit half with --exr-half).\n"
-        "The same --seed gives the same image, bit for bit, at any --threads.\n\nEstimators:\n" + estimatorHelp());
+        "The same --seed gives the same image, bit for bit, at any --threads, with every sampler.\n\nEstimators:\n" +
+        estimatorHelp() + "\n\nSamplers (every random decision of a render draws from the sampler):\n" + samplerHelp());
     r->add_option("scene", o.scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
     r->add_option("--estimator,-e", o.estimator, "reflected-radiance estimator: " + fmt::format("{}", fmt::join(estimatorNames(), ", ")))
         ->capture_default_str();
+    addSamplerOption(r, o.sampler);
     r->add_option("--spp,-s", o.spp, "camera samples per pixel")->check(CLI::Range(1u, 1000000u))->capture_default_str();
     r->add_option("--width,-W", o.width, "image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
     r->add_option("--height,-H", o.height, "image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
@@ -101,6 +123,7 @@ int runRender(const RenderOptions& o) {
     settings.height = o.height;
     settings.spp = o.spp;
     settings.seed = o.seed;
+    settings.sampler = o.sampler;
     settings.threads = o.threads;
     settings.trace.maxDepth = o.maxDepth;
     settings.trace.nextEvent = !o.noNee;
@@ -118,8 +141,8 @@ int runRender(const RenderOptions& o) {
         fmt::print(stderr, "symphong: warning: {} non-finite path contributions were discarded\n", result.stats.badSamples);
     writeImage(result.image, output, o.exposure, o.exrHalf);
     const double secs = std::max(result.stats.seconds, 1e-9);
-    fmt::print("{}: {}x{}, {} spp, estimator {}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name, o.width, o.height,
-               o.spp, estimator->name(), result.stats.seconds, result.stats.rays / secs / 1e6,
+    fmt::print("{}: {}x{}, {} spp, estimator {}, sampler {}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name, o.width,
+               o.height, o.spp, estimator->name(), result.sampler, result.stats.seconds, result.stats.rays / secs / 1e6,
                ProgressBar::formatCount(result.stats.samples / secs), output);
     return 0;
 }
@@ -133,6 +156,7 @@ struct FurnaceOptions {
     int repeats = 10000;
     std::uint64_t seed = 1;
     int directions = 16;
+    std::string sampler = std::string(kDefaultSampler);
     bool grid = false;
     std::string json;
     EstimatorOptions estimatorOptions;
@@ -147,7 +171,9 @@ void addFurnaceCommand(CLI::App& app, FurnaceOptions& o) {
         "standard error, the exact value, the relative bias and its z-score, the variance of one estimate, the\n"
         "variance per direction (var x directions: estimators compared at an equal number of directions), the\n"
         "time per estimate and the efficiency 1/(var x time). One estimate is one call of a set-returning estimator\n"
-        "(paper, symmetric*) or the mean of --directions calls of the others (stratified stratifies them).\n"
+        "(paper, symmetric* in branch mode), the mean of one whole spread set (spread mode), or the mean of --directions\n"
+        "calls of the others. Estimate r is pixel r of --sampler and call i its sample i, so a stratified or sobol sampler\n"
+        "stratifies the calls of an estimate.\n"
         "Environments: constant (L = 1), gradient (quadratic sky), disk (small disk light), band (horizon band),\n"
         "halfspace. --grid runs n in {1,10,100,1000,10000} x theta in {0,30,60,85}.\n");
     f->add_option("--estimator,-e", o.estimators, "estimators, comma-separated, or all")->capture_default_str();
@@ -159,6 +185,7 @@ void addFurnaceCommand(CLI::App& app, FurnaceOptions& o) {
     f->add_option("--phi", o.phi, "view azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
     f->add_option("--repeats,-M", o.repeats, "independent estimates")->check(CLI::Range(2, 100000000))->capture_default_str();
     f->add_option("--seed", o.seed, "random seed")->capture_default_str();
+    addSamplerOption(f, o.sampler);
     f->add_option("--directions", o.directions, "calls per estimate for one-direction estimators")->check(CLI::Range(1, 1000000))->capture_default_str();
     f->add_option("--disk-theta", o.env.diskTheta, "disk light: polar angle, degrees")->check(CLI::Range(0.0, 180.0))->capture_default_str();
     f->add_option("--disk-phi", o.env.diskPhi, "disk light: azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
@@ -186,7 +213,7 @@ std::vector<std::string> splitList(const std::string& text, const std::vector<st
 }
 
 nlohmann::json toJson(const FurnaceResult& r) {
-    return {{"estimator", r.estimator}, {"environment", r.environment}, {"rho_d", r.rhoD}, {"rho_s", r.rhoS},
+    return {{"estimator", r.estimator}, {"sampler", r.sampler}, {"environment", r.environment}, {"rho_d", r.rhoD}, {"rho_s", r.rhoS},
             {"n", r.n}, {"theta_deg", r.thetaDeg}, {"repeats", r.repeats}, {"estimate", r.estimate},
             {"std_error", r.stdError}, {"exact", r.exact}, {"relative_bias", r.relativeBias},
             {"z", std::isfinite(r.z) ? nlohmann::json(r.z) : nlohmann::json(nullptr)}, {"variance", r.variance},
@@ -205,8 +232,8 @@ int runFurnaceCommand(const FurnaceOptions& o) {
         if (std::filesystem::is_directory(o.json)) throw InputError(fmt::format("--json {}: is a directory", o.json));
         writeFile(o.json, "");  // fails now, not after the run, if it cannot be written
     }
-    fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  (one-direction estimators: {} calls per estimate)\n", o.rhoD, o.rhoS,
-               o.repeats, o.seed, o.directions);
+    fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  sampler {}  (one-direction estimators: {} calls per estimate)\n", o.rhoD,
+               o.rhoS, o.repeats, o.seed, o.sampler, o.directions);
     fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6} {:>11} {:>10} {:>11} {:>9} {:>8} {:>10} {:>10} {:>9} {:>10}\n", "estimator",
                "environmt", "n", "theta", "dirs", "estimate", "std.err", "exact", "rel.bias", "z", "var(1 est)", "var x dirs",
                "us/est", "efficiency");
@@ -227,6 +254,7 @@ int runFurnaceCommand(const FurnaceOptions& o) {
                     setup.options = o.estimatorOptions;
                     setup.rhoD = o.rhoD, setup.rhoS = o.rhoS, setup.n = n, setup.thetaDeg = theta, setup.phiDeg = o.phi;
                     setup.repeats = o.repeats, setup.seed = mixSeed(o.seed, cell++), setup.directions = o.directions;
+                    setup.sampler = o.sampler;
                     const FurnaceResult r = runFurnace(setup, env);
                     fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6.1f} {:>11.6f} {:>10.2e} {:>11.6f} {:>+8.2f}% {:>8.2f} {:>10.3e} {:>10.3e} {:>9.3f} {:>10.3e}\n",
                                est, envName, n, theta, r.directionsPerEstimate, r.estimate, r.stdError, r.exact, 100 * r.relativeBias,

@@ -1,5 +1,6 @@
 // estimators/basic.h — the classic one-direction strategies: uniform and cosine-weighted hemisphere
-// sampling, cosine sampling stratified across a pixel's samples, and Phong-lobe importance sampling.
+// sampling (plain, or under the stratified sampler as `stratified`), and Phong-lobe importance sampling.
+// Each draws one 2D value from the sample stream.
 #pragma once
 
 #include "estimators/estimator.h"
@@ -10,30 +11,22 @@ namespace symphong {
 class UniformEstimator final : public Estimator {
 public:
     std::string_view name() const override { return "uniform"; }
-    void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
+    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
 };
 
-/// Cosine-weighted hemisphere sampling, p = cos(theta)/pi.
+/// Cosine-weighted hemisphere sampling, p = cos(theta)/pi. Named `stratified`, it is the same
+/// estimator bound to the stratified sampler (jittered strata in every dimension pair, every depth).
 class CosineEstimator final : public Estimator {
 public:
-    std::string_view name() const override { return "cosine"; }
-    void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
+    explicit CosineEstimator(bool stratified = false) : stratified_(stratified) {}
+    std::string_view name() const override { return stratified_ ? "stratified" : "cosine"; }
+    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
-};
+    std::string_view requiredSampler() const override { return stratified_ ? "stratified" : ""; }
 
-/// Cosine sampling whose unit-square points are jittered strata across a pixel: camera sample i of N
-/// takes cell i of an nx x ny grid (nx ny = N, nx the largest divisor of N not above sqrt(N)). Only at
-/// the first hit (depth 0); deeper bounces are plain cosine, since reusing the same cell index at every
-/// depth would correlate the bounces of one path and bias the image.
-class StratifiedEstimator final : public Estimator {
-public:
-    std::string_view name() const override { return "stratified"; }
-    void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
-    double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
-
-    /// The grid nx x ny used for N samples.
-    static void grid(std::uint32_t n, int& nx, int& ny);
+private:
+    bool stratified_;
 };
 
 /// Phong-lobe importance sampling: the diffuse lobe (cosine) with probability
@@ -42,13 +35,15 @@ public:
 class PhongLobeEstimator final : public Estimator {
 public:
     std::string_view name() const override { return "phong"; }
-    void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const override;
+    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
 
     /// Probability of choosing the diffuse lobe for a material.
     static double diffuseProbability(const PhongMaterial& m);
-    /// One direction of the mixture, before the horizon test (a lobe direction may point below it).
-    static Vec3 sampleDirection(const ShadingContext& ctx, Rng& rng);
+    /// One direction of the mixture from one 2D value, before the horizon test (a lobe direction may
+    /// point below it): the lobe choice is folded into u.u (diffuse when u.u < P_d, then rescaled to
+    /// [0,1)), so the 2D value's stratification carries over to both lobes.
+    static Vec3 sampleDirection(const ShadingContext& ctx, Point2 u);
     /// The mixture's density over the whole sphere, matching sampleDirection.
     static double directionPdf(const ShadingContext& ctx, const Vec3& wi);
 };

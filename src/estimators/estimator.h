@@ -7,7 +7,7 @@
 
 #include "materials/phong.h"
 #include "math/vec3.h"
-#include "sampling/rng.h"
+#include "sampling/sampler.h"
 
 #include <cstdint>
 #include <memory>
@@ -21,11 +21,15 @@ struct ShadingContext {
     Vec3 wo;                           ///< outgoing direction, local frame (wo.z > 0)
     const PhongMaterial* material = nullptr;
     int depth = 0;                     ///< 0 at the first surface seen from the camera
-    std::uint32_t sampleIndex = 0;     ///< index of the camera sample within its pixel
-    std::uint32_t sampleCount = 1;     ///< camera samples per pixel
     /// Whether the estimator may return several directions (the path tracer allows it at the first
     /// hit only, so paths never branch exponentially); otherwise it returns at most one.
     bool branch = false;
+};
+
+/// How the symmetric estimators use their set of P pieces (16 diffuse + 8 lobe) at the first hit.
+enum class SymmetricMode {
+    Branch,  ///< one camera sample traces the whole set: P paths (x N') from its first hit
+    Spread,  ///< the set is spread over consecutive camera samples of a pixel, one piece each
 };
 
 struct DirectionSample {
@@ -43,8 +47,10 @@ public:
     /// Appends this strategy's directions for one shading point to `out` (which it does not clear).
     /// A direction below the surface may be omitted (for an unbiased estimator it carries zero weight;
     /// `paper` returns its below-horizon directions with the weights its formula gives them). With
-    /// ctx.branch false, at most one direction.
-    virtual void sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const = 0;
+    /// ctx.branch false, at most one direction. Every random decision draws from `samples`, starting at
+    /// the dimension it is positioned at; with ctx.branch false an estimator uses at most five
+    /// dimensions, with ctx.branch true as many as it needs (the caller reserves a block).
+    virtual void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const = 0;
 
     /// The misPdf that sample() would attach to direction wi at this point (0 where it never samples).
     virtual double misPdf(const ShadingContext& ctx, const Vec3& wi) const = 0;
@@ -56,13 +62,27 @@ public:
     /// Whether a call with ctx.branch returns a whole set of directions (the symmetric estimators), so
     /// that one call is one estimate; otherwise a call returns at most one direction.
     virtual bool returnsSets() const { return false; }
+
+    /// For estimators whose set is spread over camera samples: the number of samples that make up one
+    /// whole set at this shading point (its entries); 1 for the others.
+    virtual std::uint32_t spreadSetSize(const ShadingContext&) const { return 1; }
+
+    /// The sampler this estimator is defined with, overriding the one asked for (`stratified` is cosine
+    /// sampling under the stratified sampler); empty for the others.
+    virtual std::string_view requiredSampler() const { return {}; }
 };
 
 /// Settings that only some estimators read.
 struct EstimatorOptions {
     int symmetricN = 1;         ///< N': (u,v) points per piece for `paper`, `symmetric`, `symmetric-shifted`
     bool paperRefined = false;  ///< `paper`: the conclusion's finer lobe normalisation instead of Eq. (6)'s
+    SymmetricMode symmetricMode = SymmetricMode::Branch;  ///< `paper`, `symmetric*`: branch or spread
 };
+
+/// "branch" or "spread".
+std::string_view symmetricModeName(SymmetricMode mode);
+/// Parses "branch" or "spread"; throws std::invalid_argument otherwise.
+SymmetricMode parseSymmetricMode(std::string_view name);
 
 /// Names accepted by makeEstimator, in the order --help lists them.
 const std::vector<std::string>& estimatorNames();

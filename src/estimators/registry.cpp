@@ -16,11 +16,19 @@ const std::vector<std::string>& estimatorNames() {
 std::string estimatorHelp() {
     return "uniform    - uniform hemisphere directions, p = 1/(2 pi)\n"
            "cosine     - cosine-weighted directions, p = cos/pi\n"
-           "stratified - cosine directions from jittered strata across each pixel's samples (first hit)\n"
+           "stratified - cosine directions under the stratified sampler (whatever --sampler says)\n"
            "phong      - Phong lobe importance sampling: diffuse or specular lobe chosen by albedo\n"
            "paper      - the paper's symmetric estimator, Eq. (4) + (7), exactly as printed (biased)\n"
            "symmetric  - corrected symmetric estimator: 16 pieces + 8 rotated triangles, exact maps, MIS\n"
            "symmetric-shifted - as symmetric, each symmetric copy from its own shifted (u,v)";
+}
+
+std::string_view symmetricModeName(SymmetricMode mode) { return mode == SymmetricMode::Spread ? "spread" : "branch"; }
+
+SymmetricMode parseSymmetricMode(std::string_view name) {
+    if (name == "branch") return SymmetricMode::Branch;
+    if (name == "spread") return SymmetricMode::Spread;
+    throw std::invalid_argument(fmt::format("unknown symmetric mode '{}' (valid: branch, spread)", name));
 }
 
 std::unique_ptr<Estimator> makeEstimator(std::string_view name, const EstimatorOptions& options) {
@@ -28,11 +36,11 @@ std::unique_ptr<Estimator> makeEstimator(std::string_view name, const EstimatorO
         throw std::invalid_argument(fmt::format("--symmetric-n {} is out of range (1..4096)", options.symmetricN));
     if (name == "uniform") return std::make_unique<UniformEstimator>();
     if (name == "cosine") return std::make_unique<CosineEstimator>();
-    if (name == "stratified") return std::make_unique<StratifiedEstimator>();
+    if (name == "stratified") return std::make_unique<CosineEstimator>(true);
     if (name == "phong") return std::make_unique<PhongLobeEstimator>();
-    if (name == "paper") return std::make_unique<PaperEstimator>(options.symmetricN, options.paperRefined);
-    if (name == "symmetric") return std::make_unique<SymmetricEstimator>(options.symmetricN, false);
-    if (name == "symmetric-shifted") return std::make_unique<SymmetricEstimator>(options.symmetricN, true);
+    if (name == "paper") return std::make_unique<PaperEstimator>(options.symmetricN, options.paperRefined, options.symmetricMode);
+    if (name == "symmetric") return std::make_unique<SymmetricEstimator>(options.symmetricN, false, options.symmetricMode);
+    if (name == "symmetric-shifted") return std::make_unique<SymmetricEstimator>(options.symmetricN, true, options.symmetricMode);
     throw std::invalid_argument(fmt::format("unknown estimator '{}' (valid: {})", name, fmt::join(estimatorNames(), ", ")));
 }
 

@@ -63,11 +63,20 @@ struct PaperTerms {
 
 }  // namespace
 
-void PaperEstimator::allDirections(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
+std::uint32_t PaperEstimator::entries(const PhongMaterial& m) const {
+    const std::uint32_t np = static_cast<std::uint32_t>(nPrime_);
+    return 16 * (np + 1) + (m.hasSpecular() ? 8 * np : 0);
+}
+
+std::uint32_t PaperEstimator::spreadSetSize(const ShadingContext& ctx) const {
+    return mode_ == SymmetricMode::Spread ? entries(*ctx.material) : 1;
+}
+
+void PaperEstimator::allDirections(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
     const PaperTerms terms(ctx, nPrime_, refined_);
     const bool specular = ctx.material->hasSpecular();
     for (int j = 0; j <= nPrime_; ++j) {  // Eq. (4) sums j = 0..N' as printed: N'+1 points
-        const Point2 p = rng.uniform2();
+        const Point2 p = samples.get2D();
         const double w = paperWeight(p);
         const Vec3 tri = paperTriangleMap(p), quad = paperQuadrangleMap(p);
         for (int k = 0; k < 8; ++k) {
@@ -78,23 +87,32 @@ void PaperEstimator::allDirections(const ShadingContext& ctx, Rng& rng, std::vec
     }
 }
 
-void PaperEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
-    if (ctx.branch) {
-        allDirections(ctx, rng, out);
+void PaperEstimator::sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+    if (ctx.branch && mode_ == SymmetricMode::Branch) {
+        allDirections(ctx, samples, out);
         return;
     }
-    // One of the K = 16(N'+1) + 8N' entries of allDirections, uniformly, its weight times K. The points
-    // are independent, so an entry's point is a fresh one: draw only the chosen direction.
+    // One of the K entries of allDirections, its weight times K: entries 0..8(N'+1)-1 are the triangle
+    // directions of point j = e/8 in octant e mod 8, the next 8(N'+1) the quadrangle ones, the last 8N'
+    // the specular ones of points 1..N'.
     const PaperTerms terms(ctx, nPrime_, refined_);
-    const double np = nPrime_;
-    const double tri = 8.0 * (np + 1.0), spec = ctx.material->hasSpecular() ? 8.0 * np : 0.0, total = 2.0 * tri + spec;
-    const double pick = rng.uniform() * total;
-    const int k = std::min(7, static_cast<int>(rng.uniform() * 8.0));
-    const Point2 p = rng.uniform2();
-    DirectionSample s = pick < tri         ? terms.triangle(paperTriangleMap(p), paperWeight(p), k)
-                        : pick < 2.0 * tri ? terms.quadrangle(paperQuadrangleMap(p), paperWeight(p), k)
-                                           : terms.specular(paperTriangleMap(p), k);
-    s.weight *= total;
+    const std::uint32_t K = entries(*ctx.material), tri = 8 * static_cast<std::uint32_t>(nPrime_ + 1);
+    const std::uint32_t e = samples.patternEntry(K);
+    const bool triangle = e < tri, quadrangle = !triangle && e < 2 * tri;
+    const std::uint32_t rest = triangle ? e : quadrangle ? e - tri : e - 2 * tri;
+    const int k = static_cast<int>(rest % 8);
+    const std::uint32_t j = triangle || quadrangle ? rest / 8 : 1 + rest / 8;
+    Point2 p;
+    if (ctx.branch) {  // spread mode, first hit: point j of this round, shared by the round's samples
+        samples.setDimension(samples.dimension() + 2 * j);
+        p = samples.roundPoint(K);
+    } else {
+        p = samples.get2D();
+    }
+    DirectionSample s = triangle     ? terms.triangle(paperTriangleMap(p), paperWeight(p), k)
+                        : quadrangle ? terms.quadrangle(paperQuadrangleMap(p), paperWeight(p), k)
+                                     : terms.specular(paperTriangleMap(p), k);
+    s.weight *= static_cast<double>(K);
     out.push_back(s);
 }
 
@@ -107,64 +125,109 @@ Point2 SymmetricEstimator::copyPoint(Point2 p, int k, PieceKind kind) const {
     return {frac(p.u + ((3 * k) % 8) / 8.0 + half), frac(p.v + k / 8.0 + half)};
 }
 
-double SymmetricEstimator::setDensity(const ShadingContext& ctx, const LobeFrame& lobe, const Vec3& wi) {
-    if (wi.z <= 0) return 0.0;
-    double d = pieceDensity(inTriangles(wi) ? PieceKind::Triangle : PieceKind::Quadrangle, wi);
-    if (ctx.material->hasSpecular()) {
-        const Vec3 face = lobe.toFace(wi);
-        if (face.z > 0 && inTriangles(face)) d += lobeTriangleDensity(foldToOctant0(face), ctx.material->exponent);
-    }
-    return d;
+double SymmetricEstimator::diffuseSetDensity(const Vec3& wi) {
+    return wi.z > 0 ? pieceDensity(inTriangles(wi) ? PieceKind::Triangle : PieceKind::Quadrangle, wi) : 0.0;
 }
 
-void SymmetricEstimator::sample(const ShadingContext& ctx, Rng& rng, std::vector<DirectionSample>& out) const {
+double SymmetricEstimator::lobeSetDensity(const ShadingContext& ctx, const LobeFrame& lobe, const Vec3& wi) {
+    if (wi.z <= 0 || !ctx.material->hasSpecular()) return 0.0;
+    const Vec3 face = lobe.toFace(wi);
+    return face.z > 0 && inTriangles(face) ? lobeTriangleDensity(foldToOctant0(face), ctx.material->exponent) : 0.0;
+}
+
+double SymmetricEstimator::setDensity(const ShadingContext& ctx, const LobeFrame& lobe, const Vec3& wi) {
+    return diffuseSetDensity(wi) + lobeSetDensity(ctx, lobe, wi);
+}
+
+std::uint32_t SymmetricEstimator::spreadSetSize(const ShadingContext& ctx) const {
+    return mode_ == SymmetricMode::Spread ? static_cast<std::uint32_t>(nPrime_) * (ctx.material->hasSpecular() ? 24u : 16u) : 1u;
+}
+
+// Branch mode, first hit: the whole set, N' points x (16 + 8) directions, balance heuristic over both
+// techniques. Shared work: the 8 copies of a piece share d_D (diffuse pieces: the same cos theta) or
+// d_S (lobe triangles: the same folded face direction), so each is computed once per point.
+void SymmetricEstimator::sampleSet(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
     const PhongMaterial& m = *ctx.material;
     const bool specular = m.hasSpecular();
     const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
-    const int pieces = specular ? 24 : 16;
-    const double scale = ctx.branch ? static_cast<double>(nPrime_) : 1.0 / pieces;
-    const auto push = [&](const Vec3& wi) {
+    const double scale = static_cast<double>(nPrime_);
+    const auto push = [&](const Vec3& wi, double dD, double dS) {
         if (wi.z <= 0) return;  // a rotated direction below the surface carries no light (erratum 6)
         const Color f = evalPhong(m, ctx.wo, wi);
         if (isBlack(f)) return;
-        const double d = scale * setDensity(ctx, lobe, wi);
+        const double d = scale * (dD + dS);
         out.push_back({wi, f * (wi.z / d), d});
     };
-    if (!ctx.branch) {
-        const int piece = std::min(pieces - 1, static_cast<int>(rng.uniform() * pieces));
-        const Point2 p = rng.uniform2();
-        const int k = piece % 8;
-        if (piece < 8) push(toOctant(triangleMap(p), k));
-        else if (piece < 16) push(toOctant(quadrangleMap(p), k));
-        else push(lobe.toLocal(toOctant(lobeTriangleMap(p, m.exponent), k)));
-        return;
-    }
     for (int j = 0; j < nPrime_; ++j) {
-        const Point2 p = rng.uniform2();
+        const Point2 p = samples.get2D();
         if (!shifted_) {
             // One point, three maps, then only sign flips and swaps: the paper's reuse by symmetry.
             const Vec3 tri = triangleMap(p), quad = quadrangleMap(p);
+            const double dTri = pieceDensity(PieceKind::Triangle, tri), dQuad = pieceDensity(PieceKind::Quadrangle, quad);
             const Vec3 lobeDir = specular ? lobeTriangleMap(p, m.exponent) : Vec3();
+            const double dLobe = specular ? lobeTriangleDensity(lobeDir, m.exponent) : 0.0;
             for (int k = 0; k < 8; ++k) {
-                push(toOctant(tri, k));
-                push(toOctant(quad, k));
-                if (specular) push(lobe.toLocal(toOctant(lobeDir, k)));
+                const Vec3 t = toOctant(tri, k), q = toOctant(quad, k);
+                push(t, dTri, lobeSetDensity(ctx, lobe, t));
+                push(q, dQuad, lobeSetDensity(ctx, lobe, q));
+                if (specular) {
+                    const Vec3 l = lobe.toLocal(toOctant(lobeDir, k));
+                    push(l, diffuseSetDensity(l), dLobe);
+                }
             }
             continue;
         }
         for (int k = 0; k < 8; ++k) {
             const Point2 pt = copyPoint(p, k, PieceKind::Triangle);
-            push(toOctant(triangleMap(pt), k));
-            push(toOctant(quadrangleMap(copyPoint(p, k, PieceKind::Quadrangle)), k));
-            if (specular) push(lobe.toLocal(toOctant(lobeTriangleMap(pt, m.exponent), k)));
+            const Vec3 t = toOctant(triangleMap(pt), k), q = toOctant(quadrangleMap(copyPoint(p, k, PieceKind::Quadrangle)), k);
+            push(t, diffuseSetDensity(t), lobeSetDensity(ctx, lobe, t));
+            push(q, diffuseSetDensity(q), lobeSetDensity(ctx, lobe, q));
+            if (specular) {
+                const Vec3 ld = lobeTriangleMap(pt, m.exponent);
+                const Vec3 l = lobe.toLocal(toOctant(ld, k));
+                push(l, diffuseSetDensity(l), lobeTriangleDensity(ld, m.exponent));
+            }
         }
     }
+}
+
+void SymmetricEstimator::sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+    if (ctx.branch && mode_ == SymmetricMode::Branch) {
+        sampleSet(ctx, samples, out);
+        return;
+    }
+    const PhongMaterial& m = *ctx.material;
+    const std::uint32_t pieces = m.hasSpecular() ? 24 : 16;
+    // Spread mode at the first hit: the entries of N' points x P pieces over a round of camera samples,
+    // the point shared by the round. Otherwise one point per sample and the N' = 1 pattern over pieces.
+    const bool round = ctx.branch;
+    const std::uint32_t entries = round ? static_cast<std::uint32_t>(nPrime_) * pieces : pieces;
+    const std::uint32_t e = samples.patternEntry(entries);
+    const std::uint32_t piece = e % pieces;
+    Point2 p;
+    if (round) {
+        samples.setDimension(samples.dimension() + 2 * (e / pieces));
+        p = samples.roundPoint(entries);
+    } else {
+        p = samples.get2D();
+    }
+    const int k = static_cast<int>(piece % 8);
+    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
+    Vec3 wi;
+    if (piece < 8) wi = toOctant(triangleMap(copyPoint(p, k, PieceKind::Triangle)), k);
+    else if (piece < 16) wi = toOctant(quadrangleMap(copyPoint(p, k, PieceKind::Quadrangle)), k);
+    else wi = lobe.toLocal(toOctant(lobeTriangleMap(copyPoint(p, k, PieceKind::Triangle), m.exponent), k));
+    if (wi.z <= 0) return;  // a rotated direction below the surface carries no light (erratum 6)
+    const Color f = evalPhong(m, ctx.wo, wi);
+    if (isBlack(f)) return;
+    const double d = setDensity(ctx, lobe, wi) / pieces;
+    out.push_back({wi, f * (wi.z / d), d});
 }
 
 double SymmetricEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const {
     const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
     const int pieces = ctx.material->hasSpecular() ? 24 : 16;
-    const double scale = ctx.branch ? static_cast<double>(nPrime_) : 1.0 / pieces;
+    const double scale = ctx.branch && mode_ == SymmetricMode::Branch ? static_cast<double>(nPrime_) : 1.0 / pieces;
     return scale * setDensity(ctx, lobe, wi);
 }
 

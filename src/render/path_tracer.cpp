@@ -53,9 +53,10 @@ double EmitterSampler::pickProbability(std::uint32_t prim) const {
     return s < 0 ? 0.0 : distribution_.pmf(static_cast<std::size_t>(s));
 }
 
-std::uint32_t EmitterSampler::pick(double u, double& probability) const {
+std::uint32_t EmitterSampler::pick(double u, double& probability, double& uRemapped) const {
     const std::size_t i = distribution_.sample(u);
     probability = distribution_.pmf(i);
+    uRemapped = std::clamp((u - distribution_.cdf(i)) / probability, 0.0, kOneBelow);
     return emitters_[i];
 }
 
@@ -73,17 +74,16 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
     epsilon_ = 1e-5 * extent;
 }
 
-Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, Rng& rng, std::uint32_t sampleIndex, std::uint32_t sampleCount,
-                                 TraceStats& stats, PathScratch& scratch) const {
+Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const {
     if (scratch.directions.size() < static_cast<std::size_t>(settings_.maxDepth) + 1)
         scratch.directions.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
-    PathContext pc{rng, sampleIndex, sampleCount, stats, scratch};
-    return radiance(o, d, 0, 0.0, Color(1.0), pc);
+    PathContext pc{samples, stats, scratch};
+    return radiance(o, d, 0, 0, 0.0, Color(1.0), pc);
 }
 
 // One path vertex: emission (MIS-weighted against light sampling when the previous vertex could also
 // have reached it by NEE), then NEE, then the estimator's directions, each continued recursively.
-Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, double prevMisPdf, const Color& throughput,
+Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
                            PathContext& pc) const {
     Hit hit;
     ++pc.stats.rays;
@@ -120,36 +120,49 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, double prevM
     const Vec3 wo = frame.toLocal(normalize(-d));
     if (wo.z <= 0) return L;  // seen from behind its shading normal: reflects nothing
 
-    const ShadingContext sc{wo, &mat, depth, pc.sampleIndex, pc.sampleCount, depth == 0};
-    if (useLightSampling_) L += sampleEmitter(p, ng, frame, sc, pc);
+    const ShadingContext sc{wo, &mat, depth, depth == 0};
+    SampleStream& samples = pc.samples;
+    const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
+    if (useLightSampling_) {
+        samples.setDimension(vertexDim + SampleDimensions::kLight);
+        L += sampleEmitter(p, ng, frame, sc, samples.get2D(), pc.stats);
+    }
 
     std::vector<DirectionSample>& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
-    estimator_.sample(sc, pc.rng, dirs);
+    samples.setDimension(depth == 0 ? SampleDimensions::kFirstHitEstimator : vertexDim + SampleDimensions::kEstimator);
+    estimator_.sample(sc, samples, dirs);
     const Vec3 origin = p + ng * epsilon_;
     // `throughput` only steers Russian roulette. A branch of a K-direction set carries about 1/K of the
     // set's light; judging it by K times its weight keeps roulette from killing the branches of a set.
+    // A set's directions continue as paths 1..K of their own (their own dimensions); one direction
+    // continues this path.
     const double branches = static_cast<double>(std::max<std::size_t>(1, dirs.size()));
-    for (const DirectionSample& s : dirs) {
+    const bool branching = dirs.size() > 1;
+    for (std::size_t k = 0; k < dirs.size(); ++k) {
+        const DirectionSample& s = dirs[k];
         const Vec3 wi = frame.toWorld(s.wi);
         if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
+        const std::uint64_t nextPath = branching ? k + 1 : path;
         Color next = throughput * s.weight * branches;
         double survive = 1.0;
         if (depth + 1 >= settings_.rrDepth) {
             survive = std::min(0.95, maxComponent(next));
-            if (!(survive > 0) || pc.rng.uniform() >= survive) continue;
+            samples.setDimension(SampleDimensions::vertex(depth + 1, nextPath) + SampleDimensions::kRoulette);
+            if (!(survive > 0) || samples.get1D() >= survive) continue;
             next /= survive;
         }
-        L += s.weight * radiance(origin, wi, depth + 1, s.misPdf, next, pc) / survive;
+        L += s.weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
     }
     return L;
 }
 
 // Next-event estimation: one point on one emitter, weighted against the estimator by the power heuristic.
-Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, PathContext& pc) const {
-    double pick = 0;
-    const std::uint32_t prim = emitters_.pick(pc.rng.uniform(), pick);
-    const Point2 b = sampleUniformTriangle(pc.rng.uniform2());
+Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
+                                TraceStats& stats) const {
+    double pick = 0, uPoint = 0;
+    const std::uint32_t prim = emitters_.pick(u.u, pick, uPoint);
+    const Point2 b = sampleUniformTriangle({uPoint, u.v});
     const Triangle& t = scene_.triangles[prim];
     const Vec3 q = scene_.positions[t.v[0]] * b.u + scene_.positions[t.v[1]] * b.v +
                    scene_.positions[t.v[2]] * (1.0 - b.u - b.v);
@@ -164,7 +177,7 @@ Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& fram
     if (isBlack(f)) return Color(0.0);
     const double lightPdf = pick / areas_[prim] * dist2 / cosL;
     const Vec3 origin = p + ng * epsilon_;
-    ++pc.stats.rays;
+    ++stats.rays;
     if (accel_.occluded(origin, q - origin, 0.0, 1.0 - 1e-5)) return Color(0.0);
     const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
     return f * scene_.materials[t.material].emission * (wiLocal.z * w / lightPdf);

@@ -33,13 +33,33 @@ public:
     bool empty() const { return emitters_.empty(); }
     /// Probability of picking triangle `prim` (0 if it does not emit).
     double pickProbability(std::uint32_t prim) const;
-    /// Picks an emitter triangle; returns its index in Scene::triangles.
-    std::uint32_t pick(double u, double& probability) const;
+    /// Picks an emitter triangle from u in [0,1); returns its index in Scene::triangles, its
+    /// probability, and u rescaled to [0,1) inside the chosen triangle's share (so one 2D value can
+    /// choose the triangle and, with its rescaled u, the point on it).
+    std::uint32_t pick(double u, double& probability, double& uRemapped) const;
 
 private:
     std::vector<std::uint32_t> emitters_;
     std::vector<std::int32_t> slot_;  ///< triangle -> index in emitters_, or -1
     Distribution1D distribution_;
+};
+
+/// Where each random decision of a camera sample reads the sampler: dimension numbers, fixed for a
+/// given depth and path, so no two decisions share a value and every sampler sees the same layout.
+/// Path 0 is the camera sample's own path; a set estimator's branches at the first hit are paths 1..K.
+struct SampleDimensions {
+    static constexpr std::uint64_t kPixel = 0;            ///< pair: position inside the pixel
+    static constexpr std::uint64_t kFirstBounce = 2;
+    static constexpr std::uint64_t kPerBounce = 8;        ///< dimensions of one path vertex:
+    static constexpr std::uint64_t kLight = 0;            ///<   pair: emitter choice (folded into u) and point
+    static constexpr std::uint64_t kEstimator = 2;        ///<   up to 5: the estimator's one direction
+    static constexpr std::uint64_t kRoulette = 7;         ///<   Russian roulette on arriving at this vertex
+    static constexpr std::uint64_t kPathStride = 1u << 14;  ///< > kPerBounce x (max depth 1024 + 1)
+    static constexpr std::uint64_t kFirstHitEstimator = 1ull << 40;  ///< the first hit's estimator: a block of any size
+    /// First dimension of the vertex at `depth` of path `path`.
+    static constexpr std::uint64_t vertex(int depth, std::uint64_t path) {
+        return kFirstBounce + path * kPathStride + static_cast<std::uint64_t>(depth) * kPerBounce;
+    }
 };
 
 /// Per-thread working memory of the path tracer.
@@ -51,23 +71,22 @@ class PathTracer {
 public:
     PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings);
 
-    /// Radiance arriving at the camera along o + t d, for camera sample `sampleIndex` of `sampleCount`
-    /// of its pixel (the stratified estimator needs to know which).
-    Color cameraRadiance(const Vec3& o, const Vec3& d, Rng& rng, std::uint32_t sampleIndex, std::uint32_t sampleCount,
-                         TraceStats& stats, PathScratch& scratch) const;
+    /// Radiance arriving at the camera along o + t d, every decision drawn from `samples` (one camera
+    /// sample's stream) at the dimensions of SampleDimensions.
+    Color cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const;
 
     const Scene& scene() const { return scene_; }
     double epsilon() const { return epsilon_; }
 
 private:
     struct PathContext {
-        Rng& rng;
-        std::uint32_t sampleIndex, sampleCount;
+        SampleStream& samples;
         TraceStats& stats;
         PathScratch& scratch;
     };
-    Color radiance(const Vec3& o, const Vec3& d, int depth, double prevMisPdf, const Color& throughput, PathContext& pc) const;
-    Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, PathContext& pc) const;
+    Color radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
+                   PathContext& pc) const;
+    Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
 
     const Scene& scene_;
     const Accel& accel_;

@@ -21,6 +21,10 @@ void cameraRay(const Camera& cam, int width, int height, double px, double py, V
     dir = normalize(forward + right * sx + up * sy);
 }
 
+std::string effectiveSampler(const Estimator& estimator, const std::string& requested) {
+    return estimator.requiredSampler().empty() ? requested : std::string(estimator.requiredSampler());
+}
+
 RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                     std::atomic<std::uint64_t>* progress) {
     const auto start = std::chrono::steady_clock::now();
@@ -28,6 +32,8 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
     result.image = Image(settings.width, settings.height);
     result.variance = Image(settings.width, settings.height);
     const PathTracer tracer(scene, accel, estimator, settings.trace);
+    result.sampler = effectiveSampler(estimator, settings.sampler);
+    const auto sampler = makeSampler(result.sampler, settings.spp, settings.seed);
 
     constexpr int kTile = 16;
     const int tilesX = (settings.width + kTile - 1) / kTile, tilesY = (settings.height + kTile - 1) / kTile;
@@ -42,13 +48,13 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
         for (int y = ty * kTile; y < std::min(settings.height, (ty + 1) * kTile); ++y) {
             for (int x = tx * kTile; x < std::min(settings.width, (tx + 1) * kTile); ++x) {
                 const std::uint64_t pixel = static_cast<std::uint64_t>(y) * settings.width + x;
-                Rng rng(mixSeed(settings.seed, pixel), pixel);
                 Color sum(0.0), sumSq(0.0);
                 for (std::uint32_t i = 0; i < spp; ++i) {
-                    const Point2 jitter = rng.uniform2();
+                    SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
+                    const Point2 jitter = samples.get2D();
                     Vec3 o, d;
                     cameraRay(scene.camera, settings.width, settings.height, x + jitter.u, y + jitter.v, o, d);
-                    Color L = tracer.cameraRadiance(o, d, rng, i, spp, stats, scratch);
+                    Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
                     if (!isFinite(L) || minComponent(L) < 0) {
                         ++stats.badSamples;
                         L = Color(0.0);

@@ -1,6 +1,7 @@
-// render/renderer.h — the image loop: pixels in 16x16 tiles spread over oneTBB, one PCG stream per
-// pixel (seeded from --seed and the pixel index), so the same seed gives the same image bit for bit at
-// any thread count. Also keeps the per-pixel variance of the mean for statistical comparisons.
+// render/renderer.h — the image loop: pixels in 16x16 tiles spread over oneTBB; every random number of
+// camera sample i of pixel p comes from the sampler as a pure function of (seed, p, i, dimension), so
+// the same seed gives the same image bit for bit at any thread count. Also keeps the per-pixel variance
+// of the mean for statistical comparisons.
 #pragma once
 
 #include "io/image.h"
@@ -8,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <string>
 
 namespace symphong {
 
@@ -15,6 +17,7 @@ struct RenderSettings {
     int width = 512, height = 512;
     std::uint32_t spp = 64;
     std::uint64_t seed = 1;
+    std::string sampler = std::string(kDefaultSampler);  ///< unless the estimator requires its own
     int threads = 0;  ///< 0: all hardware threads
     TraceSettings trace;
     /// When set and it becomes true, remaining tiles are skipped and the result is marked cancelled.
@@ -32,11 +35,15 @@ struct RenderResult {
     Image image;     ///< per-pixel mean radiance
     Image variance;  ///< per-pixel variance of that mean (sample variance / spp), per channel
     RenderStats stats;
+    std::string sampler;     ///< the sampler used (the estimator's own where it requires one)
     bool cancelled = false;  ///< stopped early through RenderSettings::cancel: the image is incomplete
 };
 
 /// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image.
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir);
+
+/// The sampler a render with this estimator uses: the estimator's own, else the one asked for.
+std::string effectiveSampler(const Estimator& estimator, const std::string& requested);
 
 /// Renders the scene. `progress`, when given, is advanced by the number of camera samples finished.
 RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,

@@ -20,6 +20,8 @@ public:
 
     std::size_t size() const { return cdf_.empty() ? 0 : cdf_.size() - 1; }
     double total() const { return total_; }
+    /// The CDF below index i: the sum of the probabilities of 0..i-1.
+    double cdf(std::size_t i) const { return cdf_[i]; }
     /// Probability of index i.
     double pmf(std::size_t i) const { return cdf_[i + 1] - cdf_[i]; }
 

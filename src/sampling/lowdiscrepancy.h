@@ -8,6 +8,7 @@
 
 #include "sampling/rng.h"
 
+#include <bit>
 #include <cstdint>
 
 namespace symphong {
@@ -25,17 +26,51 @@ constexpr std::uint32_t reverseBits32(std::uint32_t v) {
 /// generator matrix is the identity and the value is the index's bits mirrored about the binary point.
 constexpr std::uint32_t sobolDimension0(std::uint32_t index) { return reverseBits32(index); }
 
-/// Sobol' dimension 1, whose generator matrix is Pascal's triangle mod 2: column k (the bit of index
-/// bit k, most significant output bit first) has bit j set when C(j, k) is odd (j >= k). As 32-bit
-/// words, column k is the Sierpinski row v_k = v_{k-1} ^ (v_{k-1} >> 1), v_0 = 2^31.
-/// x_i = XOR over the set bits k of i of v_k. Together with sobolDimension0 it is a (0,2)-sequence:
-/// every block of 2^m consecutive points starting at a multiple of 2^m has exactly one point in each
-/// elementary interval [a/2^p, (a+1)/2^p) x [b/2^q, (b+1)/2^q), p + q = m.
-constexpr std::uint32_t sobolDimension1(std::uint32_t index) {
+/// Sobol' dimension 1 by the definition: its generator matrix is Pascal's triangle mod 2: column k
+/// (the bit of index bit k, most significant output bit first) has bit j set when C(j, k) is odd
+/// (j >= k). As 32-bit words, column k is the Sierpinski row v_k = v_{k-1} ^ (v_{k-1} >> 1),
+/// v_0 = 2^31, and x_i = XOR over the set bits k of i of v_k. Together with sobolDimension0 it is a
+/// (0,2)-sequence: every block of 2^m consecutive points starting at a multiple of 2^m has exactly one
+/// point in each elementary interval [a/2^p, (a+1)/2^p) x [b/2^q, (b+1)/2^q), p + q = m.
+constexpr std::uint32_t sobolDimension1Loop(std::uint32_t index) {
     std::uint32_t x = 0, v = 0x80000000u;
     for (; index != 0; index >>= 1, v ^= v >> 1)
         if (index & 1u) x ^= v;
     return x;
+}
+
+namespace detail {
+/// sobolDimension1 of every byte value at byte position b: the XOR of the columns of that byte's bits;
+/// and the same bit-reversed.
+struct SobolDimension1Tables {
+    std::uint32_t t[4][256] = {}, reversed[4][256] = {};
+    constexpr SobolDimension1Tables() {
+        for (int b = 0; b < 4; ++b)
+            for (std::uint32_t i = 0; i < 256; ++i) {
+                t[b][i] = sobolDimension1Loop(i << (8 * b));
+                reversed[b][i] = reverseBits32(t[b][i]);
+            }
+    }
+};
+inline constexpr SobolDimension1Tables kSobolDimension1Tables{};
+
+/// Laine and Karras's nested-scramble hash on a bit-reversed value (the core of owenScramble).
+constexpr std::uint32_t laineKarras(std::uint32_t v, std::uint32_t seed) {
+    v ^= v * 0x3d20adeau;
+    v += seed;
+    v *= (seed >> 16) | 1u;
+    v ^= v * 0x05526c56u;
+    v ^= v * 0x53a22864u;
+    return v;
+}
+}  // namespace detail
+
+/// Sobol' dimension 1 (see sobolDimension1Loop) by four table look-ups, one per byte of the index: the
+/// map is linear over GF(2), so the bytes' contributions XOR. No data-dependent branches (the
+/// scrambled sample order makes the loop's branches unpredictable).
+constexpr std::uint32_t sobolDimension1(std::uint32_t index) {
+    const auto& t = detail::kSobolDimension1Tables.t;
+    return t[0][index & 0xFFu] ^ t[1][(index >> 8) & 0xFFu] ^ t[2][(index >> 16) & 0xFFu] ^ t[3][index >> 24];
 }
 
 /// 32-bit integer hash with full avalanche (Wellons' "lowbias32").
@@ -63,13 +98,19 @@ constexpr std::uint64_t hashWords(std::uint64_t a, std::uint64_t b, std::uint64_
 /// v *= odd only carry information from lower to higher bits, i.e. from more to less significant
 /// digits of x, so the map is a nested scramble; it keeps (t,m,s)-nets nets.
 constexpr std::uint32_t owenScramble(std::uint32_t v, std::uint32_t seed) {
-    v = reverseBits32(v);
-    v ^= v * 0x3d20adeau;
-    v += seed;
-    v *= (seed >> 16) | 1u;
-    v ^= v * 0x05526c56u;
-    v ^= v * 0x53a22864u;
-    return reverseBits32(v);
+    return reverseBits32(detail::laineKarras(reverseBits32(v), seed));
+}
+
+/// owenScramble(sobolDimension0(index), seed) with the two bit reversals that cancel left out.
+constexpr std::uint32_t owenScrambledSobol0(std::uint32_t index, std::uint32_t seed) {
+    return reverseBits32(detail::laineKarras(index, seed));
+}
+
+/// owenScramble(sobolDimension1(index), seed), from bit-reversed tables (one reversal saved).
+constexpr std::uint32_t owenScrambledSobol1(std::uint32_t index, std::uint32_t seed) {
+    const auto& r = detail::kSobolDimension1Tables.reversed;
+    const std::uint32_t rev = r[0][index & 0xFFu] ^ r[1][(index >> 8) & 0xFFu] ^ r[2][(index >> 16) & 0xFFu] ^ r[3][index >> 24];
+    return reverseBits32(detail::laineKarras(rev, seed));
 }
 
 /// Owen scrambling digit by digit (slow, exact form of the definition): digit k is flipped when a hash of
@@ -118,6 +159,28 @@ constexpr std::uint32_t permuteIndex(std::uint32_t i, std::uint32_t n, std::uint
         i ^= i >> 5;
     } while (i >= n);
     return (i + seed) % n;
+}
+
+/// A pseudo-random permutation of {0, ..., n-1} for n a power of two, 2^k (cheaper than permuteIndex,
+/// which it equals in purpose): three rounds of xor with the seed, multiplication by an odd constant
+/// and a right xorshift, each a bijection of k-bit words; the multiplications carry low bits up and the
+/// xorshifts high bits down, so every output bit depends nonlinearly on every input bit.
+constexpr std::uint32_t permutePowerOfTwo(std::uint32_t i, std::uint32_t k, std::uint32_t seed) {
+    if (k == 0) return 0;
+    const std::uint32_t mask = k >= 32 ? 0xFFFFFFFFu : (1u << k) - 1u, shift = k / 2 + 1;
+    i = ((i ^ seed) * 0xe170893du) & mask;
+    i ^= i >> shift;
+    i = ((i ^ (seed >> 8)) * (0x0929eb3fu | (seed >> 27) << 1)) & mask;
+    i ^= i >> shift;
+    i = ((i ^ (seed >> 16)) * 0x6935fa69u) & mask;
+    i ^= i >> shift;
+    return i;
+}
+
+/// permutePowerOfTwo when n is a power of two, permuteIndex otherwise.
+constexpr std::uint32_t permuteAny(std::uint32_t i, std::uint32_t n, std::uint32_t seed) {
+    if ((n & (n - 1)) == 0) return permutePowerOfTwo(i, static_cast<std::uint32_t>(std::countr_zero(n)), seed);
+    return permuteIndex(i, n, seed);
 }
 
 }  // namespace symphong

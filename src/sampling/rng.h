@@ -13,6 +13,9 @@ struct Point2 {
     double u = 0, v = 0;
 };
 
+/// The largest double below 1: a value rescaled into [0,1) is clamped to it, so no warp sees u = 1.
+inline constexpr double kOneBelow = 0x1.fffffffffffffp-1;
+
 /// PCG32 stream (O'Neill 2014) returning doubles in [0,1) with 53 random bits.
 /// Render code seeds one stream per pixel, so an image does not depend on how pixels are scheduled.
 class Rng {

@@ -30,10 +30,20 @@ public:
     virtual ~Sampler() = default;
 
     virtual std::string_view name() const = 0;
-    /// Value of dimension `dim` of sample `index` (< samplesPerPixel) of pixel `pixel`, in [0,1).
-    virtual double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const = 0;
+
+    /// The pixel's key: (seed, pixel) hashed once, so that a camera sample's many values do not hash
+    /// them again. Values depend on (seed, pixel) only through it.
+    std::uint64_t pixelKey(std::uint64_t pixel) const { return mixSeed(seed_, pixel); }
+    /// Value of dimension `dim` of sample `index` of a pattern of `count` samples (index < count) in
+    /// the pixel with key `key`, in [0,1). The pixel's camera samples are the pattern of samplesPerPixel().
+    virtual double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const = 0;
     /// Values of the dimension pair (dim, dim+1), in [0,1)^2.
-    virtual Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const = 0;
+    virtual Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const = 0;
+
+    /// Dimension `dim` of camera sample `index` of pixel `pixel`.
+    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const { return value1D(pixelKey(pixel), index, spp_, dim); }
+    /// Dimensions (dim, dim+1) of camera sample `index` of pixel `pixel`.
+    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const { return value2D(pixelKey(pixel), index, spp_, dim); }
 
     std::uint32_t samplesPerPixel() const { return spp_; }
     std::uint64_t seed() const { return seed_; }
@@ -43,14 +53,15 @@ private:
     std::uint64_t seed_;
 };
 
-/// Independent uniform values: PCG32 stream `pixel` seeded from (seed, sample index), advanced by
-/// two draws per dimension. Values of different dimensions or samples are independent.
+/// Independent uniform values: PCG32, stream = the pixel key, state seeded from (sample index,
+/// dimension); a 2D value is the first two doubles of its dimension's generator. Values of different
+/// dimensions, samples or pixels are independent.
 class IndependentSampler final : public Sampler {
 public:
     using Sampler::Sampler;
     std::string_view name() const override { return "independent"; }
-    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
-    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+    double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
+    Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
 };
 
 /// Jittered strata in every dimension pair: Kensler's correlated multi-jittered pattern with an
@@ -61,19 +72,19 @@ class StratifiedSampler final : public Sampler {
 public:
     using Sampler::Sampler;
     std::string_view name() const override { return "stratified"; }
-    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
-    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+    double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
+    Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
 };
 
 /// Padded, Owen-scrambled Sobol' (0,2)-sequence: pair (dim, dim+1) of sample i is
 ///   (owen(sobol0(j), s0), owen(sobol1(j), s1)),  j = permute(i, spp, s2),
-/// with s0, s1, s2 hashed from (seed, pixel, dim); a 1D dimension is owen(sobol0(j), s0).
+/// with s0, s1, s2 hashed from (pixel key, dim); a 1D dimension is owen(sobol0(j), s0) with its own seeds.
 class SobolSampler final : public Sampler {
 public:
     using Sampler::Sampler;
     std::string_view name() const override { return "sobol"; }
-    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
-    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const override;
+    double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
+    Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
 };
 
 /// Names accepted by makeSampler, in the order --help lists them.
@@ -90,23 +101,37 @@ std::unique_ptr<Sampler> makeSampler(std::string_view name, std::uint32_t sample
 class SampleStream {
 public:
     SampleStream(const Sampler& sampler, std::uint64_t pixel, std::uint32_t index, std::uint64_t dim = 0)
-        : sampler_(&sampler), pixel_(pixel), index_(index), dim_(dim) {}
+        : sampler_(&sampler), pixel_(pixel), key_(sampler.pixelKey(pixel)), index_(index), dim_(dim) {}
 
     void setDimension(std::uint64_t dim) { dim_ = dim; }
     std::uint64_t dimension() const { return dim_; }
-    double get1D() { return sampler_->sample1D(pixel_, index_, dim_++); }
+    double get1D() { return sampler_->value1D(key_, index_, sampler_->samplesPerPixel(), dim_++); }
     Point2 get2D() {
-        const Point2 p = sampler_->sample2D(pixel_, index_, dim_);
+        const Point2 p = sampler_->value2D(key_, index_, sampler_->samplesPerPixel(), dim_);
         dim_ += 2;
         return p;
     }
-    /// The next pair's values for another sample `index` of the same pixel (< samplesPerPixel): a value
-    /// shared by a group of samples, as the spread symmetric pattern needs.
-    Point2 get2DOf(std::uint32_t index) {
-        const Point2 p = sampler_->sample2D(pixel_, index, dim_);
+    /// The next pair's values for sample `index` of a pattern of `count` samples of this pixel
+    /// (index < count): values shared by a group of camera samples.
+    Point2 get2DOf(std::uint32_t index, std::uint32_t count) {
+        const Point2 p = sampler_->value2D(key_, index, count, dim_);
         dim_ += 2;
         return p;
     }
+
+    /// Spread pattern: the pixel's samples come in rounds of `entries`; this sample is entry
+    /// perm(i mod entries) of round i / entries, with perm a hashed permutation (a random rotation of a
+    /// scrambled order) of {0..entries-1} per (seed, pixel, dimension, round). Over a whole round every
+    /// entry is taken once; for a random seed each sample's entry is uniform on its own. Uses one
+    /// dimension (as a hash key).
+    std::uint32_t patternEntry(std::uint32_t entries);
+    /// Number of rounds of `entries` samples in the pixel: ceil(spp / entries).
+    std::uint32_t patternRounds(std::uint32_t entries) const { return (samplesPerPixel() + entries - 1) / entries; }
+    /// This sample's round.
+    std::uint32_t patternRound(std::uint32_t entries) const { return index_ / entries; }
+    /// The next pair's values shared by every sample of this sample's round: sample `round` of a
+    /// pattern of patternRounds(entries) samples, so the rounds' points are themselves stratified.
+    Point2 roundPoint(std::uint32_t entries) { return get2DOf(patternRound(entries), patternRounds(entries)); }
 
     std::uint64_t pixel() const { return pixel_; }
     std::uint32_t sampleIndex() const { return index_; }
@@ -115,7 +140,7 @@ public:
 
 private:
     const Sampler* sampler_;
-    std::uint64_t pixel_;
+    std::uint64_t pixel_, key_;
     std::uint32_t index_;
     std::uint64_t dim_;
 };

@@ -18,21 +18,26 @@ FurnaceResult runFurnace(const FurnaceSetup& s, const Environment& env) {
 
     FurnaceResult r;
     r.estimator = s.estimator;
+    r.sampler = std::string(estimator->requiredSampler().empty() ? std::string_view(s.sampler) : estimator->requiredSampler());
     r.environment = env.name;
     r.rhoD = s.rhoD, r.rhoS = s.rhoS, r.n = s.n, r.thetaDeg = s.thetaDeg;
     r.repeats = s.repeats;
     r.exact = exactReflected(env, s.rhoD, s.rhoS, s.n, wo);
 
-    Rng rng(s.seed, 0x5eed);
     std::vector<DirectionSample> out;
-    const int calls = estimator->returnsSets() ? 1 : s.directions;
+    const ShadingContext ctx{wo, &m, 0, true};
+    const int calls = estimator->returnsSets() ? 1
+                      : estimator->spreadSetSize(ctx) > 1 ? static_cast<int>(estimator->spreadSetSize(ctx))
+                                                           : s.directions;
+    const auto sampler = makeSampler(r.sampler, static_cast<std::uint32_t>(calls), s.seed);
     double sum = 0, sumSq = 0, directions = 0;
     const auto start = std::chrono::steady_clock::now();
     for (int rep = 0; rep < s.repeats; ++rep) {
         double estimate = 0;
         for (int i = 0; i < calls; ++i) {
             out.clear();
-            estimator->sample(ShadingContext{wo, &m, 0, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(calls), true}, rng, out);
+            SampleStream samples(*sampler, static_cast<std::uint64_t>(rep), static_cast<std::uint32_t>(i));
+            estimator->sample(ctx, samples, out);
             for (const DirectionSample& d : out) estimate += d.weight.x * env.radiance(d.wi);
             directions += static_cast<double>(out.size());
         }

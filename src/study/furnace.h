@@ -19,10 +19,11 @@ struct FurnaceSetup {
     int repeats = 10000;      ///< M independent estimates
     std::uint64_t seed = 1;
     int directions = 16;      ///< estimators that return one direction per call are called this many times per estimate
+    std::string sampler = std::string(kDefaultSampler);  ///< estimate r is pixel r, call i its sample i
 };
 
 struct FurnaceResult {
-    std::string estimator, environment;
+    std::string estimator, environment, sampler;
     double rhoD = 0, rhoS = 0, n = 0, thetaDeg = 0;
     int repeats = 0;
     double estimate = 0, stdError = 0, exact = 0;
@@ -35,8 +36,9 @@ struct FurnaceResult {
 };
 
 /// Runs M estimates. One estimate is one call of a set-returning estimator (paper, symmetric: its whole
-/// set of directions) or the mean of `directions` calls of a one-direction estimator (call i of K is
-/// camera sample i of K, so `stratified` stratifies them). Each direction is weighted by the
+/// set of directions), the mean of one whole spread set's calls (spread mode: P N' calls), or the mean of
+/// `directions` calls of a one-direction estimator. Estimate r is pixel r of the sampler and call i its
+/// camera sample i, so a stratified or low-discrepancy sampler stratifies an estimate's calls. Each direction is weighted by the
 /// environment's radiance there, whatever side of the surface it is on (so the paper's below-horizon
 /// specular directions count with their negative weights, as printed).
 FurnaceResult runFurnace(const FurnaceSetup& setup, const Environment& env);
