@@ -1,3 +1,138 @@
+// Samplers: nanoseconds per value of each sampler (1D and 2D), the cost a sampler adds to a render, and
+// of the low-discrepancy building blocks alone. The samplers are made by makeSampler and called through
+// the Sampler interface (a virtual call, as the renderer does). spp = 64; every iteration asks for
+// another (pixel, sample index, dimension), so nothing can be hoisted out of the loop:
+//   Sample1D / Sample2D — sampler.sample1D/sample2D(pixel, index, dim): includes hashing (seed, pixel);
+//   Value1D / Value2D   — sampler.value1D/value2D(key, index, spp, dim) with the pixel key hashed once per
+//                         pixel, as SampleStream (what estimators and the path tracer draw from) does.
+#include "sampling/lowdiscrepancy.h"
+#include "sampling/sampler.h"
+
 #include <benchmark/benchmark.h>
-static void BM_Placeholder(benchmark::State& s) { for (auto _ : s) benchmark::DoNotOptimize(s.iterations()); }
-BENCHMARK(BM_Placeholder);
+
+#include <cstdint>
+#include <string>
+
+using namespace symphong;
+
+namespace {
+
+constexpr std::uint32_t kSpp = 64;
+
+// Iteration k asks for sample k mod 64, dimension (k / 64) mod 32 (times 2 for pairs), pixel k / 2048.
+inline std::uint32_t indexOf(std::uint64_t k) { return static_cast<std::uint32_t>(k & (kSpp - 1)); }
+inline std::uint64_t dimOf(std::uint64_t k) { return (k >> 6) & 31; }
+inline std::uint64_t pixelOf(std::uint64_t k) { return k >> 11; }
+
+void BM_Sample1D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sampler->sample1D(pixelOf(k), indexOf(k), dimOf(k)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Sample2D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0;
+    for (auto _ : state) {
+        const Point2 p = sampler->sample2D(pixelOf(k), indexOf(k), 2 * dimOf(k));
+        benchmark::DoNotOptimize(p.u);
+        benchmark::DoNotOptimize(p.v);
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Value1D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0, key = sampler->pixelKey(0);
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sampler->value1D(key, indexOf(k), kSpp, dimOf(k)));
+        if ((++k & 2047) == 0) key = sampler->pixelKey(pixelOf(k));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Value2D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0, key = sampler->pixelKey(0);
+    for (auto _ : state) {
+        const Point2 p = sampler->value2D(key, indexOf(k), kSpp, 2 * dimOf(k));
+        benchmark::DoNotOptimize(p.u);
+        benchmark::DoNotOptimize(p.v);
+        if ((++k & 2047) == 0) key = sampler->pixelKey(pixelOf(k));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// Building blocks: throughput of independent calls on varying inputs.
+void BM_OwenScramble(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(owenScramble(k * 0x9E3779B9u, k ^ 0x5bd1e995u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_OwenScrambleExact(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(owenScrambleExact(k * 0x9E3779B9u, k ^ 0x5bd1e995u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// sobolDimension1 loops over the index's bits: indices below spp = 64 (what the samplers ask for) and
+// full 32-bit indices.
+void BM_SobolDimension1_Below64(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1(k & 63u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_SobolDimension1_Full32(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1(k * 0x9E3779B9u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_PermuteIndex(benchmark::State& state) {
+    const auto n = static_cast<std::uint32_t>(state.range(0));
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(permuteIndex(k % n, n, hash32(k / n)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Sample1D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Sample1D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Sample1D, sobol, std::string("sobol"));
+BENCHMARK_CAPTURE(BM_Sample2D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Sample2D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Sample2D, sobol, std::string("sobol"));
+BENCHMARK_CAPTURE(BM_Value1D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Value1D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Value1D, sobol, std::string("sobol"));
+BENCHMARK_CAPTURE(BM_Value2D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Value2D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Value2D, sobol, std::string("sobol"));
+BENCHMARK(BM_OwenScramble);
+BENCHMARK(BM_OwenScrambleExact);
+BENCHMARK(BM_SobolDimension1_Below64);
+BENCHMARK(BM_SobolDimension1_Full32);
+BENCHMARK(BM_PermuteIndex)->Arg(64)->Arg(100);

@@ -30,8 +30,21 @@ STYLE = {
 }
 
 
+LINE = {"sobol": "-", "independent": "--", "stratified": "-."}
+
+
 def style(name):
     return STYLE.get(name, ("#333333", "."))
+
+
+def variants(data):
+    """The study's variants (estimator, sampler, mode, label) in order; old results.json files have none."""
+    cfg = data["config"]
+    return cfg.get("variants") or [{"label": e, "estimator": e, "sampler": "independent", "mode": "branch"} for e in cfg["estimators"]]
+
+
+def key(s):
+    return s.get("variant", s["estimator"])
 
 
 def save(fig, out_dir, stem, dpi=110):
@@ -44,17 +57,19 @@ def convergence(data, out_dir, x_key, stem, xlabel):
     summary = data["summary"]
     fig, ax = plt.subplots(figsize=(5.6, 4.0))
     anchor = None
-    for est in data["config"]["estimators"]:
-        pts = sorted((s[x_key], s["rmse"], s["rmse_spread"]) for s in summary if s["estimator"] == est and s["rmse"] > 0)
+    for v in variants(data):
+        est = v["label"]
+        pts = sorted((s[x_key], s["rmse"], s["rmse_spread"]) for s in summary if key(s) == est and s["rmse"] > 0)
         if not pts:
             continue
         xs, ys, es = zip(*pts)
-        color, marker = style(est)
-        biased = any(s["bias_significant"] for s in summary if s["estimator"] == est)
+        color, marker = style(v["estimator"])
+        biased = any(s["bias_significant"] for s in summary if key(s) == est)
         label = est + (" (biased)" if biased else "")
         ax.errorbar(xs, ys, yerr=es, color=color, marker=marker, ms=4, lw=1.4, capsize=2, label=label,
-                    ls="--" if biased else "-")
-        if est == "cosine" or anchor is None:  # the 1/sqrt(N) line starts at cosine's first point
+                    ls=":" if biased else LINE.get(v["sampler"], "-"),
+                    mfc="white" if v["mode"] == "spread" else color)
+        if v["estimator"] == "cosine" or anchor is None:  # the 1/sqrt(N) line starts at cosine's first point
             anchor = (xs[0], ys[0])
     if anchor:
         xs = np.array([min(s[x_key] for s in summary), max(s[x_key] for s in summary)])
@@ -75,19 +90,22 @@ def efficiency(data, out_dir):
     rows = [s for s in summary if s["spp"] == top and math.isfinite(s["efficiency"]) and s["efficiency"] > 0]
     if not rows:
         return
-    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.6))
-    for ax, key, what in ((axes[0], "efficiency", "1/(MSE x time)"), (axes[1], "efficiency_relmse", "1/(relMSE x time)")):
-        base = next((s[key] for s in rows if s["estimator"] == "cosine"), None) or max(s[key] for s in rows)
+    fig, axes = plt.subplots(1, 2, figsize=(max(9.0, 0.55 * len(rows) * 2), 3.8))
+    for ax, key_, what in ((axes[0], "efficiency", "1/(MSE x time)"), (axes[1], "efficiency_relmse", "1/(relMSE x time)")):
+        cosines = [s for s in rows if s["estimator"] == "cosine"]
+        base_row = next((s for s in cosines if s.get("sampler") == "independent"), cosines[0] if cosines else None)
+        base = base_row[key_] if base_row else max(s[key_] for s in rows)
         for i, s in enumerate(rows):
-            v = s[key] / base
+            v = s[key_] / base
             color, _ = style(s["estimator"])
-            ax.bar(i, v, color=color, hatch="//" if s["bias_significant"] else None, edgecolor="black", lw=0.5)
+            hatch = "//" if s["bias_significant"] else ("..." if s.get("mode") == "spread" else None)
+            ax.bar(i, v, color=color, hatch=hatch, edgecolor="black", lw=0.5, alpha=0.55 if s.get("sampler") == "independent" else 1.0)
             ax.text(i, v, f"{v:.2g}x", ha="center", va="bottom", fontsize=7)
         ax.set_xticks(range(len(rows)))
-        ax.set_xticklabels([s["estimator"] + (" (biased)" if s["bias_significant"] else "") for s in rows], fontsize=7,
-                           rotation=25, ha="right")
+        ax.set_xticklabels([key(s) + (" (biased)" if s["bias_significant"] else "") for s in rows], fontsize=7,
+                           rotation=30, ha="right")
         ax.set_yscale("log")
-        ax.set_ylabel(f"efficiency {what}\nrelative to cosine")
+        ax.set_ylabel(f"efficiency {what}\nrelative to " + (key(base_row) if base_row else "the best"))
         ax.axhline(1.0, color="black", lw=0.6)
         ax.grid(True, axis="y", which="both", alpha=0.25)
     fig.subplots_adjust(wspace=0.4)
@@ -99,7 +117,7 @@ def heatmaps(data, out_dir):
     hm = data["config"]["heatmap"]
     w, h = hm["width"], hm["height"]
     maps = {}
-    for est in data["config"]["estimators"]:
+    for est in (v["label"] for v in variants(data)):
         path = os.path.join(out_dir, "heatmaps", f"{est}.f32")
         if os.path.exists(path):
             maps[est] = np.fromfile(path, dtype="<f4").reshape(h, w)
@@ -126,7 +144,7 @@ def crops(data, out_dir):
     hm = data["config"]["heatmap"]
     x, y, cw, ch = hm["crop"]
     panels = [("reference", os.path.join(out_dir, "reference.png"))]
-    panels += [(est, os.path.join(out_dir, "renders", f"{est}.png")) for est in data["config"]["estimators"]]
+    panels += [(v["label"], os.path.join(out_dir, "renders", f"{v['label']}.png")) for v in variants(data)]
     panels = [(n, p) for n, p in panels if os.path.exists(p)]
     if not panels:
         return

@@ -45,11 +45,12 @@ struct RenderOptions {
     EstimatorOptions estimatorOptions;
 };
 
-void addEstimatorOptions(CLI::App* cmd, EstimatorOptions& o) {
+void addEstimatorOptions(CLI::App* cmd, EstimatorOptions& o, bool withMode = true) {
     cmd->add_option("--symmetric-n", o.symmetricN, "N': (u,v) points per piece for paper, symmetric, symmetric-shifted")
         ->check(CLI::Range(1, 4096))
         ->capture_default_str();
     cmd->add_flag("--paper-refined", o.paperRefined, "paper: use the conclusion's finer lobe normalisation instead of Eq. (6)'s");
+    if (!withMode) return;
     cmd->add_option_function<std::string>(
            "--symmetric-mode",
            [&o](const std::string& name) {
@@ -269,6 +270,8 @@ int runFurnaceCommand(const FurnaceOptions& o) {
 struct StudyOptions {
     StudyConfig config;
     std::string estimators = "cosine,stratified,phong,symmetric,symmetric-shifted,paper";
+    std::string samplers = std::string(kDefaultSampler);
+    std::string modes = "branch";
     std::vector<std::uint32_t> spps = {1, 4, 16, 64};
     bool noPlots = false;
 };
@@ -276,7 +279,8 @@ struct StudyOptions {
 void addStudyCommand(CLI::App& app, StudyOptions& o) {
     CLI::App* s = app.add_subcommand("study", "Compare estimators on a scene: bias, RMSE, variance, time, efficiency, with plots and a report.");
     s->footer(
-        "Renders SCENE with each estimator at each sample count, --repeats independent times, against a reference image\n"
+        "Renders SCENE with each estimator (under each of --samplers, and the set estimators in each of --symmetric-modes)\n"
+        "at each sample count, --repeats independent times, against a reference image\n"
         "(rendered once at --reference-spp with --reference-estimator and cached in DIR, or given with --reference), and\n"
         "writes into DIR: results.csv and results.json (one row per estimator x spp x repeat), convergence plots against\n"
         "samples and time with the 1/sqrt(N) slope, an efficiency bar chart (PNG and SVG), per-pixel error heat maps,\n"
@@ -284,6 +288,8 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
         "the finished rows. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.\n");
     s->add_option("scene", o.config.scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
     s->add_option("--estimators,-e", o.estimators, "estimators, comma-separated, or all")->capture_default_str();
+    s->add_option("--samplers", o.samplers, "samplers, comma-separated, or all: every estimator runs under each")->capture_default_str();
+    s->add_option("--symmetric-modes", o.modes, "modes of paper and symmetric*, comma-separated: branch, spread, or all")->capture_default_str();
     s->add_option("--spp", o.spps, "samples per pixel, comma-separated")->delimiter(',')->check(CLI::Range(1u, 1000000u))->capture_default_str();
     s->add_option("--repeats,-R", o.config.repeats, "independent renders per estimator and spp")->check(CLI::Range(1, 1000))->capture_default_str();
     s->add_option("--reference", o.config.referencePath, "reference image (linear EXR of the same size) instead of rendering one");
@@ -291,6 +297,9 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
         ->check(CLI::Range(1u, 10000000u))
         ->capture_default_str();
     s->add_option("--reference-estimator", o.config.referenceEstimator, "unbiased estimator for the reference")->capture_default_str();
+    s->add_option("--reference-sampler", o.config.referenceSampler, "sampler of the reference (independent: its own noise is known)")
+        ->check(CLI::IsMember(samplerNames()))
+        ->capture_default_str();
     s->add_option("--out,-o", o.config.outDir, "output directory")->capture_default_str();
     s->add_option("--width,-W", o.config.width, "image width")->check(CLI::Range(1, 4096))->capture_default_str();
     s->add_option("--height,-H", o.config.height, "image height")->check(CLI::Range(1, 4096))->capture_default_str();
@@ -300,7 +309,7 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
     s->add_option("--heatmap-spp", o.config.heatmapSpp, "spp of the heat maps and crops (default: the middle --spp value)");
     s->add_option("--python", o.config.python, "python3 with matplotlib for the plots (default: /usr/bin/python3, then python3)");
     s->add_flag("--no-plots", o.noPlots, "skip the plots");
-    addEstimatorOptions(s, o.config.options);
+    addEstimatorOptions(s, o.config.options, false);
 }
 
 std::atomic<bool> gInterrupted{false};
@@ -308,6 +317,9 @@ extern "C" void onInterrupt(int) { gInterrupted.store(true); }
 
 int runStudyCommand(StudyOptions& o) {
     o.config.estimators = splitList(o.estimators, estimatorNames(), "--estimators");
+    o.config.samplers = splitList(o.samplers, samplerNames(), "--samplers");
+    o.config.modes.clear();
+    for (const std::string& m : splitList(o.modes, {"branch", "spread"}, "--symmetric-modes")) o.config.modes.push_back(parseSymmetricMode(m));
     o.config.spps = o.spps;
     o.config.plots = !o.noPlots;
     gInterrupted = false;

@@ -1,11 +1,13 @@
 #include "render/renderer.h"
 
+#include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
 
 namespace symphong {
 
@@ -77,6 +79,10 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
         result.stats.badSamples += stats.badSamples;
     };
 
+    // --threads N means N threads even above the core count (TBB otherwise caps its workers there).
+    std::optional<tbb::global_control> allow;
+    if (settings.threads > 0)
+        allow.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(settings.threads));
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         tbb::parallel_for(0, tilesX * tilesY, [&](int tile) { renderTile(tile); });

@@ -27,15 +27,15 @@ namespace fs = std::filesystem;
 namespace symphong {
 
 const char* const kStudyCsvHeader =
-    "scene,estimator,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
+    "scene,estimator,variant,sampler,mode,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
     "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
     "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance";
 
 std::string studyCsv(const std::vector<StudyRow>& rows) {
     std::string out = std::string(kStudyCsvHeader) + "\n";
     for (const StudyRow& r : rows)
-        out += fmt::format("{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g}\n",
-                           r.scene, r.estimator, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples, r.meanLuminance,
+        out += fmt::format("{},{},{},{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g}\n",
+                           r.scene, r.estimator, r.variant, r.sampler, r.mode, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples, r.meanLuminance,
                            r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.efficiencyRel, r.pixelVarianceWithin,
                            r.groupRelativeBias, r.groupBiasStdError, r.groupBiasZ, r.groupBiasThreshold, r.groupBiasSignificant ? 1 : 0,
                            r.groupPixelVariance);
@@ -46,17 +46,20 @@ std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
     std::vector<StudySummary> out;
     std::map<std::pair<std::string, std::uint32_t>, std::vector<const StudyRow*>> groups;
     for (const StudyRow& r : rows) {
-        auto& g = groups[{r.estimator, r.spp}];
+        auto& g = groups[{r.variant, r.spp}];
         if (g.empty()) {
             StudySummary s;
             s.estimator = r.estimator;
+            s.variant = r.variant;
+            s.sampler = r.sampler;
+            s.mode = r.mode;
             s.spp = r.spp;
             out.push_back(s);
         }
         g.push_back(&r);
     }
     for (StudySummary& s : out) {
-        const auto& g = groups[{s.estimator, s.spp}];
+        const auto& g = groups[{s.variant, s.spp}];
         const double n = static_cast<double>(g.size());
         std::vector<double> eff, effRel;
         for (const StudyRow* r : g) {
@@ -86,19 +89,40 @@ std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
     return out;
 }
 
+std::vector<StudyVariant> studyVariants(const StudyConfig& c) {
+    std::vector<StudyVariant> out;
+    for (const std::string& e : c.estimators) {
+        const auto probe = makeEstimator(e, c.options);
+        const bool set = e == "symmetric" || e == "symmetric-shifted" || e == "paper";
+        for (SymmetricMode mode : set ? c.modes : std::vector<SymmetricMode>{SymmetricMode::Branch})
+            for (const std::string& sampler : c.samplers) {
+                StudyVariant v;
+                v.estimator = e;
+                v.mode = mode;
+                v.sampler = effectiveSampler(*probe, sampler);
+                v.label = e + (set && mode == SymmetricMode::Spread ? "+spread" : "");
+                if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
+                if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; })) out.push_back(v);
+            }
+    }
+    return out;
+}
+
 namespace {
 
-const StudySummary* find(const std::vector<StudySummary>& s, const std::string& est, std::uint32_t spp) {
+/// The summary of `estimator` (branch mode) under the same sampler as `like`, at the same spp.
+const StudySummary* sameSampler(const std::vector<StudySummary>& s, const std::string& estimator, const StudySummary& like) {
     for (const auto& x : s)
-        if (x.estimator == est && x.spp == spp) return &x;
+        if (x.estimator == estimator && x.mode == "branch" && x.spp == like.spp && (x.sampler == like.sampler || estimator == "stratified"))
+            return &x;
     return nullptr;
 }
 
 std::string factor(double x) { return x >= 10 ? fmt::format("{:.0f}x", x) : fmt::format("{:.2g}x", x); }
 
-bool biasedAnywhere(const std::vector<StudySummary>& s, const std::string& est) {
+bool biasedAnywhere(const std::vector<StudySummary>& s, const std::string& variant) {
     for (const auto& x : s)
-        if (x.estimator == est && x.biasSignificant) return true;
+        if (x.variant == variant && x.biasSignificant) return true;
     return false;
 }
 
@@ -112,60 +136,62 @@ std::string studyConclusion(const std::vector<StudySummary>& summary, const std:
     for (const auto& s : summary)
         if (s.spp == top) atTop.push_back(&s);
     std::string text;
-    const StudySummary* best = nullptr;
-    for (const auto* s : atTop)
-        if (!biasedAnywhere(summary, s->estimator) && (!best || s->efficiency > best->efficiency)) best = s;
-    const StudySummary* cosine = find(summary, "cosine", top);
-    if (best) {
-        text += fmt::format("At {} spp the most efficient unbiased estimator is `{}`", top, best->estimator);
-        if (cosine && best != cosine) text += fmt::format(" ({} the efficiency of `cosine`)", factor(best->efficiency / cosine->efficiency));
-        text += ". ";
-    }
-    for (const char* sym : {"symmetric", "symmetric-shifted"}) {
-        const StudySummary* s = find(summary, sym, top);
-        if (!s) continue;
-        std::vector<std::string> parts;
-        for (const char* other : {"cosine", "stratified", "phong"})
-            if (const StudySummary* o = find(summary, other, top); o && o->efficiency > 0)
-                parts.push_back(fmt::format("{} `{}`'s", factor(s->efficiency / o->efficiency), other));
-        if (!parts.empty())
-            text += fmt::format("`{}` reaches {} efficiency (1/(MSE x time)); ", sym, fmt::join(parts, ", "));
-    }
-    // MSE is an average of squared absolute errors, so a few very bright, very noisy pixels (an emitter's
-    // anti-aliased edge, which no estimator of reflected light can help) can decide it. relMSE weighs
-    // every pixel by its brightness; say what it concludes too.
-    if (const StudySummary* cosRel = find(summary, "cosine", top); cosRel && cosRel->efficiencyRel > 0) {
+    for (const char* key : {"MSE", "relMSE"}) {
+        const bool rel = std::string(key) == "relMSE";
+        const auto eff = [rel](const StudySummary& s) { return rel ? s.efficiencyRel : s.efficiency; };
+        const StudySummary* best = nullptr;
+        for (const auto* s : atTop)
+            if (!biasedAnywhere(summary, s->variant) && (!best || eff(*s) > eff(*best))) best = s;
+        if (!best) continue;
+        text += fmt::format("By {} at {} spp the most efficient unbiased variant is `{}`", key, top, best->variant);
         std::vector<std::string> parts;
         for (const auto* s : atTop)
-            if (s->estimator != "cosine" && !biasedAnywhere(summary, s->estimator) && s->efficiencyRel > 0)
-                parts.push_back(fmt::format("`{}` {}", s->estimator, factor(s->efficiencyRel / cosRel->efficiencyRel)));
-        if (!parts.empty())
-            text += fmt::format("measured by relMSE instead (each pixel's error relative to its brightness, which keeps bright "
-                                "emitter edges from dominating), the efficiencies relative to `cosine` are: {}; ",
-                                fmt::join(parts, ", "));
+            if (s != best && !biasedAnywhere(summary, s->variant) && eff(*s) > 0)
+                parts.push_back(fmt::format("{} that of `{}`", factor(eff(*best) / eff(*s)), s->variant));
+        if (!parts.empty()) text += fmt::format(" (its efficiency is {})", fmt::join(parts, ", "));
+        text += ". ";
     }
+    // The symmetric variants against cosine and phong under the same sampler.
+    for (const auto* s : atTop) {
+        if (s->estimator != "symmetric" && s->estimator != "symmetric-shifted") continue;
+        std::vector<std::string> parts;
+        for (const char* other : {"cosine", "stratified", "phong"})
+            if (const StudySummary* o = sameSampler(summary, other, *s); o && o->efficiency > 0 && o->efficiencyRel > 0)
+                parts.push_back(fmt::format("{} `{}`'s by MSE ({} by relMSE)", factor(s->efficiency / o->efficiency), o->variant,
+                                            factor(s->efficiencyRel / o->efficiencyRel)));
+        if (!parts.empty()) text += fmt::format("`{}` reaches {}. ", s->variant, fmt::join(parts, ", "));
+    }
+    // Each estimator's samplers against each other.
+    std::vector<std::string> samplerParts;
+    for (const auto* s : atTop)
+        if (s->sampler != "independent")
+            for (const auto* o : atTop)
+                if (o->estimator == s->estimator && o->mode == s->mode && o->sampler == "independent" && s->mse > 0)
+                    samplerParts.push_back(fmt::format("`{}` {} lower MSE than `{}` ({} the efficiency)", s->variant, factor(o->mse / s->mse),
+                                                       o->variant, factor(s->efficiency / o->efficiency)));
+    if (!samplerParts.empty()) text += fmt::format("Samplers at {} spp: {}. ", top, fmt::join(samplerParts, "; "));
     std::vector<std::string> winners;
     for (std::uint32_t spp : spps) {
         const StudySummary* w = nullptr;
         for (const auto& s : summary)
-            if (s.spp == spp && !biasedAnywhere(summary, s.estimator) && (!w || s.rmse < w->rmse)) w = &s;
-        if (w) winners.push_back(fmt::format("{} spp: `{}`", spp, w->estimator));
+            if (s.spp == spp && !biasedAnywhere(summary, s.variant) && (!w || s.rmse < w->rmse)) w = &s;
+        if (w) winners.push_back(fmt::format("{} spp: `{}`", spp, w->variant));
     }
     if (!winners.empty())
-        text += fmt::format("at equal samples per pixel, the lowest RMSE among unbiased estimators goes to {} (the symmetric "
+        text += fmt::format("At equal samples per pixel, the lowest RMSE among unbiased variants goes to {} (branch-mode symmetric "
                             "estimators trace 16 to 24 paths per camera sample, so equal samples is not equal work). ",
                             fmt::join(winners, ", "));
     std::vector<std::string> biased;
     for (const auto* s : atTop)
         if (s->biasSignificant)
-            biased.push_back(fmt::format("`{}` ({:+.1f}% +- {:.1f}%, z = {:.0f})", s->estimator, 100 * s->relativeBias,
+            biased.push_back(fmt::format("`{}` ({:+.1f}% +- {:.1f}%, z = {:.0f})", s->variant, 100 * s->relativeBias,
                                          100 * s->biasStdError, s->biasZ));
     if (!biased.empty())
         text += fmt::format("Significantly biased against the reference (|z| > 4): {}; their error stops falling with more "
                             "samples, so their efficiency means little.",
                             fmt::join(biased, ", "));
     else
-        text += "No estimator is significantly biased (|z| > 4) against the reference.";
+        text += "No variant is significantly biased (|z| > 4) against the reference.";
     return text;
 }
 
@@ -190,7 +216,7 @@ std::string findPython(const std::string& preferred) {
 }
 
 nlohmann::json rowJson(const StudyRow& r) {
-    return {{"scene", r.scene}, {"estimator", r.estimator}, {"spp", r.spp}, {"repeat", r.repeat}, {"width", r.width},
+    return {{"scene", r.scene}, {"estimator", r.estimator}, {"variant", r.variant}, {"sampler", r.sampler}, {"mode", r.mode}, {"spp", r.spp}, {"repeat", r.repeat}, {"width", r.width},
             {"height", r.height}, {"seconds", r.seconds}, {"rays", r.rays}, {"samples", r.samples},
             {"mean_luminance", r.meanLuminance}, {"mean_luminance_std_error", r.meanStdError}, {"relative_bias", r.relativeBias},
             {"mse_raw", r.mseRaw}, {"mse", r.mse}, {"rmse", r.rmse}, {"relmse", r.relMse}, {"efficiency", r.efficiency}, {"efficiency_relmse", r.efficiencyRel},
@@ -200,7 +226,7 @@ nlohmann::json rowJson(const StudyRow& r) {
 }
 
 nlohmann::json summaryJson(const StudySummary& s) {
-    return {{"estimator", s.estimator}, {"spp", s.spp}, {"seconds", s.seconds}, {"rays", s.rays}, {"rmse", s.rmse},
+    return {{"estimator", s.estimator}, {"variant", s.variant}, {"sampler", s.sampler}, {"mode", s.mode}, {"spp", s.spp}, {"seconds", s.seconds}, {"rays", s.rays}, {"rmse", s.rmse},
             {"rmse_spread", s.rmseSpread}, {"mse", s.mse}, {"relmse", s.relMse}, {"efficiency", s.efficiency},
             {"efficiency_relmse", s.efficiencyRel},
             {"relative_bias", s.relativeBias}, {"bias_std_error", s.biasStdError}, {"bias_z", s.biasZ},
@@ -211,22 +237,29 @@ struct Crop {
     int x, y, w, h;
 };
 
+std::string modeList(const std::vector<SymmetricMode>& modes) {
+    std::vector<std::string> names;
+    for (SymmetricMode m : modes) names.emplace_back(symmetricModeName(m));
+    return fmt::format("{}", fmt::join(names, ","));
+}
+
 std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, const std::vector<StudySummary>& summary,
                            const std::string& conclusion, const std::string& referenceNote, double referenceNoise, bool plotted,
                            std::uint32_t heatSpp, bool cancelled) {
     std::string md = fmt::format("# Estimator study: {}\n\n", sceneName);
     if (cancelled) md += "**Interrupted**: these are the rows finished before the study was stopped.\n\n";
     md += fmt::format(
-        "Scene `{}`, {}x{} pixels, max depth {}, {} independent repeat(s) per estimator and sample count, seed {}. {}\n"
-        "Command: `symphong study {} --estimators {} --spp {} --repeats {} --width {} --height {}`.\n\n",
+        "Scene `{}`, {}x{} pixels, max depth {}, {} independent repeat(s) per variant and sample count, seed {}. {}\n"
+        "A variant is an estimator under a sampler (`@sampler`), in spread mode for the set estimators (`+spread`).\n"
+        "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height {}`.\n\n",
         c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, referenceNote, c.scene, fmt::join(c.estimators, ","),
-        fmt::join(c.spps, ","), c.repeats, c.width, c.height);
+        fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height);
     md += "## Conclusion\n\n" + conclusion + "\n\n";
     for (const auto& s : summary)
         if (s.mse > 0 && referenceNoise > 0.5 * s.mse) {
             md += fmt::format("**Warning:** the reference's own noise ({:.3g}) is at least half of some estimators' squared error "
                               "(`{}` at {} spp: {:.3g}); their RMSE and efficiency are uncertain. Raise --reference-spp.\n\n",
-                              referenceNoise, s.estimator, s.spp, s.mse);
+                              referenceNoise, s.variant, s.spp, s.mse);
             break;
         }
     if (plotted) {
@@ -239,13 +272,13 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
     }
     md += "## Equal samples\n\nMeans over the repeats; RMSE of luminance against the reference (its own noise removed), "
           "relMSE = mean of (Y - Y_ref)^2 / (Y_ref^2 + 0.01), bias of the mean image with its standard error (flagged when "
-          "|z| > 4), efficiency 1/(MSE x time) as the median over repeats, relative to `cosine` at the same spp.\n\n"
-          "The last column is the same with relMSE in place of MSE.\n\n"
-          "| estimator | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine | relMSE efficiency vs cosine |\n"
+          "|z| > 4), efficiency 1/(MSE x time) as the median over repeats, relative to `cosine` under the same sampler at the "
+          "same spp.\n\nThe last column is the same with relMSE in place of MSE.\n\n"
+          "| variant | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine | relMSE efficiency vs cosine |\n"
           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& s : summary) {
-        const StudySummary* cos = find(summary, "cosine", s.spp);
-        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} | {} |\n", s.estimator,
+        const StudySummary* cos = sameSampler(summary, "cosine", s);
+        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} | {} |\n", s.variant,
                           s.spp, s.seconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance, 100 * s.relativeBias, 100 * s.biasStdError,
                           s.biasSignificant ? " **biased**" : "", cos && cos->efficiency > 0 ? factor(s.efficiency / cos->efficiency) : "-",
                           cos && cos->efficiencyRel > 0 ? factor(s.efficiencyRel / cos->efficiencyRel) : "-");
@@ -254,19 +287,22 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
     // time T is about 1/(efficiency x T); T = cosine's time at the highest spp.
     std::uint32_t top = 0;
     for (const auto& s : summary) top = std::max(top, s.spp);
-    const StudySummary* ref = find(summary, "cosine", top);
+    const StudySummary* ref = nullptr;
+    for (const auto& s : summary)
+        if (s.spp == top && s.estimator == "cosine" && (!ref || s.sampler == "independent")) ref = &s;
     if (!ref && !summary.empty()) ref = &summary.front();
     if (ref && ref->seconds > 0) {
         const double T = ref->seconds;
         md += fmt::format("\n## Equal time\n\nRMSE each estimator would reach in {:.3g} s (the time `{}` took at {} spp), from its "
                           "efficiency at the sample count whose time is closest: RMSE_T = sqrt(1/(efficiency x T)).\n\n"
                           "| estimator | from spp | RMSE at {:.3g} s | vs `{}` |\n|---|---:|---:|---:|\n",
-                          T, ref->estimator, top, T, ref->estimator);
+                          T, ref->variant, top, T, ref->variant);
         const double refRmse = std::sqrt(1.0 / (ref->efficiency * T));
-        for (const std::string& est : c.estimators) {
+        for (const StudyVariant& v : studyVariants(c)) {
+            const std::string& est = v.label;
             const StudySummary* bestFit = nullptr;
             for (const auto& s : summary)
-                if (s.estimator == est && s.seconds > 0 && s.efficiency > 0 &&
+                if (s.variant == est && s.seconds > 0 && s.efficiency > 0 &&
                     (!bestFit || std::abs(std::log(s.seconds / T)) < std::abs(std::log(bestFit->seconds / T))))
                     bestFit = &s;
             if (!bestFit) continue;
@@ -296,6 +332,12 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         throw InputError(fmt::format("--reference-estimator: {}", err.what()));
     }
     if (c.referenceEstimator == "paper") throw InputError("--reference-estimator: 'paper' is biased; choose an unbiased estimator");
+    if (c.samplers.empty()) throw InputError("--samplers: the list is empty");
+    for (const auto& name : c.samplers)
+        if (std::find(samplerNames().begin(), samplerNames().end(), name) == samplerNames().end())
+            throw InputError(fmt::format("--samplers: unknown sampler '{}' (valid: {})", name, fmt::join(samplerNames(), ", ")));
+    if (c.modes.empty()) throw InputError("--symmetric-modes: the list is empty");
+    const std::vector<StudyVariant> variants = studyVariants(c);
     if (c.spps.empty()) throw InputError("--spp: the list is empty");
     for (auto s : c.spps)
         if (s == 0) throw InputError("--spp: sample counts must be at least 1");
@@ -325,21 +367,27 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
 
     // Cost per camera sample of each estimator, from a small pilot render, so the progress bar's ETA
     // accounts for estimators that trace 24 paths per sample.
-    const auto pilotCost = [&](const std::string& name) {
+    const auto variantOptions = [&](const StudyVariant& v) {
+        EstimatorOptions o = c.options;
+        o.symmetricMode = v.mode;
+        return o;
+    };
+    const auto pilotCost = [&](const std::string& name, const EstimatorOptions& options, const std::string& sampler) {
         RenderSettings pilot = base;
         pilot.width = pilot.height = 24;
         pilot.spp = 2;
         pilot.seed = 99;
+        pilot.sampler = sampler;
         pilot.cancel = nullptr;
-        const auto est = makeEstimator(name, c.options);
+        const auto est = makeEstimator(name, options);
         const RenderResult r = render(scene, accel, *est, pilot);
         return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
     };
     std::map<std::string, double> cost;
     double total = 0;
-    for (const auto& e : c.estimators) {
-        cost[e] = pilotCost(e);
-        for (auto s : c.spps) total += cost[e] * s * c.width * c.height * c.repeats;
+    for (const auto& v : variants) {
+        cost[v.label] = pilotCost(v.estimator, variantOptions(v), v.sampler);
+        for (auto s : c.spps) total += cost[v.label] * s * c.width * c.height * c.repeats;
     }
 
     // Reference: given, cached, or rendered now.
@@ -349,7 +397,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
     std::string referenceNote;
     const fs::path refExr = dir / "reference.exr", refJson = dir / "reference.json";
     nlohmann::json refKey = {{"scene", sceneFingerprint(c.scene)}, {"width", c.width}, {"height", c.height}, {"spp", c.referenceSpp},
-                             {"estimator", c.referenceEstimator}, {"max_depth", c.maxDepth}, {"seed", c.seed},
+                             {"estimator", c.referenceEstimator}, {"sampler", c.referenceSampler}, {"max_depth", c.maxDepth}, {"seed", c.seed},
                              {"symmetric_n", c.options.symmetricN}, {"version", 1}};
     std::atomic<std::uint64_t> rowSamples{0};
     double doneBefore = 0, currentCost = 0;
@@ -378,12 +426,12 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
             haveReference = false;  // a damaged cache is re-rendered
         }
     }
-    const double refCost = haveReference ? 0.0 : cost.count(c.referenceEstimator) ? cost[c.referenceEstimator] : pilotCost(c.referenceEstimator);
+    const double refCost = haveReference ? 0.0 : pilotCost(c.referenceEstimator, c.options, c.referenceSampler);
     const double refWork = refCost * c.referenceSpp * c.width * c.height;
     total += refWork;
 
     int rowIndex = 0;
-    const int rowCount = static_cast<int>(c.estimators.size() * c.spps.size()) * c.repeats;
+    const int rowCount = static_cast<int>(variants.size() * c.spps.size()) * c.repeats;
     ProgressBar bar([&] { return doneBefore + currentCost * static_cast<double>(rowSamples.load(std::memory_order_relaxed)); }, total,
                     [&] {
                         std::lock_guard<std::mutex> lock(labelMutex);
@@ -397,6 +445,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         RenderSettings rs = base;
         rs.spp = c.referenceSpp;
         rs.seed = mixSeed(c.seed, 0xFEFE);
+        rs.sampler = c.referenceSampler;
         const auto est = makeEstimator(c.referenceEstimator, c.options);
         const RenderResult r = render(scene, accel, *est, rs, &rowSamples);
         if (r.cancelled) {
@@ -423,7 +472,11 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
     const auto writeResults = [&] {
         writeFile((dir / "results.csv").string(), studyCsv(outcome.rows));
         nlohmann::json j;
-        j["config"] = {{"scene", scene.name}, {"scene_spec", c.scene}, {"estimators", c.estimators}, {"spp", c.spps},
+        nlohmann::json variantList = nlohmann::json::array();
+        for (const auto& v : variants)
+            variantList.push_back({{"label", v.label}, {"estimator", v.estimator}, {"sampler", v.sampler}, {"mode", symmetricModeName(v.mode)}});
+        j["config"] = {{"scene", scene.name}, {"scene_spec", c.scene}, {"estimators", c.estimators}, {"samplers", c.samplers},
+                       {"variants", variantList}, {"spp", c.spps},
                        {"repeats", c.repeats}, {"width", c.width}, {"height", c.height}, {"max_depth", c.maxDepth}, {"seed", c.seed},
                        {"reference", {{"path", c.referencePath}, {"estimator", c.referenceEstimator}, {"spp", c.referenceSpp},
                                       {"mean_luminance", refMean.mean}, {"pixel_variance", refNoise}}},
@@ -439,9 +492,10 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
     };
 
     for (std::uint32_t spp : c.spps) {
-        for (std::size_t ei = 0; ei < c.estimators.size() && !outcome.cancelled; ++ei) {
-            const std::string& name = c.estimators[ei];
-            const auto est = makeEstimator(name, c.options);
+        for (std::size_t ei = 0; ei < variants.size() && !outcome.cancelled; ++ei) {
+            const StudyVariant& variant = variants[ei];
+            const std::string& name = variant.label;
+            const auto est = makeEstimator(variant.estimator, variantOptions(variant));
             std::vector<Image> images;
             std::vector<MeanWithError> means;
             const std::size_t firstRow = outcome.rows.size();
@@ -454,6 +508,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 rowSamples = 0;
                 RenderSettings rs = base;
                 rs.spp = spp;
+                rs.sampler = variant.sampler;
                 rs.seed = mixSeed(mixSeed(mixSeed(c.seed, ei + 1), spp), static_cast<std::uint64_t>(rep));
                 const RenderResult r = render(scene, accel, *est, rs, &rowSamples);
                 doneBefore += cost[name] * spp * c.width * c.height;
@@ -465,7 +520,10 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 }
                 StudyRow row;
                 row.scene = scene.name;
-                row.estimator = name;
+                row.estimator = variant.estimator;
+                row.variant = variant.label;
+                row.sampler = variant.sampler;
+                row.mode = std::string(symmetricModeName(variant.mode));
                 row.spp = spp;
                 row.repeat = rep;
                 row.width = c.width;

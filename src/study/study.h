@@ -16,6 +16,8 @@ namespace symphong {
 struct StudyConfig {
     std::string scene = "cornell";
     std::vector<std::string> estimators = {"cosine", "stratified", "phong", "symmetric", "symmetric-shifted", "paper"};
+    std::vector<std::string> samplers = {std::string(kDefaultSampler)};  ///< every estimator runs under each
+    std::vector<SymmetricMode> modes = {SymmetricMode::Branch};  ///< the set estimators run in each
     std::vector<std::uint32_t> spps = {1, 4, 16, 64};
     int repeats = 4;
     int width = 128, height = 128;
@@ -25,6 +27,7 @@ struct StudyConfig {
     std::string referencePath;            ///< a given reference EXR; empty: render (and cache) one
     std::uint32_t referenceSpp = 2048;
     std::string referenceEstimator = "phong";
+    std::string referenceSampler = "independent";  ///< independent: the reference's own noise is then known
     std::string outDir = "out/study";
     std::uint32_t heatmapSpp = 0;         ///< spp of the heat maps and crops; 0: the middle of `spps`
     EstimatorOptions options;
@@ -32,9 +35,20 @@ struct StudyConfig {
     std::string python;                   ///< interpreter for the plots; empty: /usr/bin/python3, then python3
 };
 
-/// One render: estimator x spp x repeat. Group columns (group_*) repeat the (estimator, spp) values.
+/// What a study compares: an estimator, in a mode (set estimators), under a sampler. Its label names it
+/// in tables and plots: the estimator, "+spread" in spread mode, "@sampler" when the study has several
+/// samplers (not for `stratified`, bound to its own).
+struct StudyVariant {
+    std::string estimator, sampler, label;
+    SymmetricMode mode = SymmetricMode::Branch;
+};
+
+/// The variants of a configuration, estimator by estimator, in the order of the lists, without duplicates.
+std::vector<StudyVariant> studyVariants(const StudyConfig& config);
+
+/// One render: variant x spp x repeat. Group columns (group_*) repeat the (variant, spp) values.
 struct StudyRow {
-    std::string scene, estimator;
+    std::string scene, estimator, variant, sampler, mode;
     std::uint32_t spp = 0;
     int repeat = 0;
     int width = 0, height = 0;
@@ -55,9 +69,9 @@ struct StudyRow {
     double groupPixelVariance = 0;   ///< mean over pixels of the variance across repeats (needs R >= 2)
 };
 
-/// Aggregate of one (estimator, spp) group.
+/// Aggregate of one (variant, spp) group.
 struct StudySummary {
-    std::string estimator;
+    std::string estimator, variant, sampler, mode;
     std::uint32_t spp = 0;
     double seconds = 0, rmse = 0, rmseSpread = 0, mse = 0, relMse = 0, efficiency = 0, efficiencyRel = 0;
     double rays = 0;
@@ -70,11 +84,12 @@ struct StudySummary {
 extern const char* const kStudyCsvHeader;
 std::string studyCsv(const std::vector<StudyRow>& rows);
 
-/// Groups rows by (estimator, spp), in the order of first appearance; mean over repeats except
+/// Groups rows by (variant, spp), in the order of first appearance; mean over repeats except
 /// efficiency (median, robust to one slow or noisy repeat).
 std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows);
 
-/// One paragraph answering, from the numbers: which estimator wins where, and by what factor.
+/// One paragraph answering, from the numbers: which variant wins where, and by what factor; each
+/// estimator is compared with `cosine` and `phong` under the same sampler, and samplers with each other.
 std::string studyConclusion(const std::vector<StudySummary>& summary, const std::vector<std::uint32_t>& spps);
 
 struct StudyOutcome {
