@@ -87,12 +87,15 @@ void BM_OwenScrambleExact(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 
-// sobolDimension1 loops over the index's bits: indices below spp = 64 (what the samplers ask for) and
-// full 32-bit indices.
+// sobolDimension1 (four table look-ups) and sobolDimension1Loop (a loop over the index's set bits): on
+// indices below spp = 64 in a scrambled order (what the samplers ask for; the loop's branches are then
+// unpredictable) and on full 32-bit indices.
+inline std::uint32_t scrambledBelow64(std::uint32_t k) { return hash32(k) & 63u; }
+
 void BM_SobolDimension1_Below64(benchmark::State& state) {
     std::uint32_t k = 0;
     for (auto _ : state) {
-        benchmark::DoNotOptimize(sobolDimension1(k & 63u));
+        benchmark::DoNotOptimize(sobolDimension1(scrambledBelow64(k)));
         ++k;
     }
     state.SetItemsProcessed(state.iterations());
@@ -107,11 +110,50 @@ void BM_SobolDimension1_Full32(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 
+void BM_SobolDimension1Loop_Below64(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1Loop(scrambledBelow64(k)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_SobolDimension1Loop_Full32(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1Loop(k * 0x9E3779B9u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// The hash32 of the input alone, to subtract from the Below64 rows.
+void BM_Hash32(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(scrambledBelow64(k));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
 void BM_PermuteIndex(benchmark::State& state) {
     const auto n = static_cast<std::uint32_t>(state.range(0));
     std::uint32_t k = 0;
     for (auto _ : state) {
         benchmark::DoNotOptimize(permuteIndex(k % n, n, hash32(k / n)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_PermutePowerOfTwo(benchmark::State& state) {
+    const auto log2n = static_cast<std::uint32_t>(state.range(0));
+    const std::uint32_t mask = (1u << log2n) - 1u;
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(permutePowerOfTwo(k & mask, log2n, hash32(k >> log2n)));
         ++k;
     }
     state.SetItemsProcessed(state.iterations());
@@ -135,4 +177,8 @@ BENCHMARK(BM_OwenScramble);
 BENCHMARK(BM_OwenScrambleExact);
 BENCHMARK(BM_SobolDimension1_Below64);
 BENCHMARK(BM_SobolDimension1_Full32);
+BENCHMARK(BM_SobolDimension1Loop_Below64);
+BENCHMARK(BM_SobolDimension1Loop_Full32);
+BENCHMARK(BM_Hash32);
 BENCHMARK(BM_PermuteIndex)->Arg(64)->Arg(100);
+BENCHMARK(BM_PermutePowerOfTwo)->Arg(6);

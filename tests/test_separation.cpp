@@ -218,12 +218,14 @@ namespace {
 /// Mean of the `paper` estimator's weights (L = 1 for every direction it returns) at one point.
 test::MeanStd paperUnderConstantL(const PhongMaterial& m, const Vec3& wo, int nPrime, int repeats, bool refined = false) {
     const PaperEstimator est(nPrime, refined);
-    Rng rng(12, static_cast<std::uint64_t>(nPrime));
+    const IndependentSampler sampler(1, 12 + static_cast<std::uint64_t>(nPrime));
     std::vector<DirectionSample> out;
     std::vector<double> v(repeats);
+    std::uint64_t pixel = 0;
     for (double& x : v) {
         out.clear();
-        est.allDirections(ShadingContext{wo, &m, 0, 0, 1, true}, rng, out);
+        SampleStream samples(sampler, pixel++, 0);
+        est.allDirections(ShadingContext{wo, &m, 0, true}, samples, out);
         x = 0;
         for (const auto& d : out) x += d.weight.x;
     }

@@ -26,9 +26,9 @@ constexpr std::uint32_t reverseBits32(std::uint32_t v) {
 /// generator matrix is the identity and the value is the index's bits mirrored about the binary point.
 constexpr std::uint32_t sobolDimension0(std::uint32_t index) { return reverseBits32(index); }
 
-/// Sobol' dimension 1 by the definition: its generator matrix is Pascal's triangle mod 2: column k
-/// (the bit of index bit k, most significant output bit first) has bit j set when C(j, k) is odd
-/// (j >= k). As 32-bit words, column k is the Sierpinski row v_k = v_{k-1} ^ (v_{k-1} >> 1),
+/// Sobol' dimension 1 by the definition: its generator matrix is the upper-triangular Pascal matrix
+/// mod 2: column k (the output of index bit k; output digit j counted from the most significant) has
+/// digit j set when C(k, j) is odd (j <= k). As 32-bit words, column k is the Sierpinski row v_k = v_{k-1} ^ (v_{k-1} >> 1),
 /// v_0 = 2^31, and x_i = XOR over the set bits k of i of v_k. Together with sobolDimension0 it is a
 /// (0,2)-sequence: every block of 2^m consecutive points starting at a multiple of 2^m has exactly one
 /// point in each elementary interval [a/2^p, (a+1)/2^p) x [b/2^q, (b+1)/2^q), p + q = m.
@@ -158,29 +158,54 @@ constexpr std::uint32_t permuteIndex(std::uint32_t i, std::uint32_t n, std::uint
         i &= w;
         i ^= i >> 5;
     } while (i >= n);
-    return (i + seed) % n;
+    return (i + seed % n) % n;  // seed % n first: i + seed could wrap around 2^32 and collide
 }
 
-/// A pseudo-random permutation of {0, ..., n-1} for n a power of two, 2^k (cheaper than permuteIndex,
-/// which it equals in purpose): three rounds of xor with the seed, multiplication by an odd constant
-/// and a right xorshift, each a bijection of k-bit words; the multiplications carry low bits up and the
-/// xorshifts high bits down, so every output bit depends nonlinearly on every input bit.
+namespace detail {
+/// A primitive (so irreducible) polynomial of degree k over GF(2), k = 0..20, with its x^k bit.
+inline constexpr std::uint32_t kIrreducible[21] = {0x1,     0x3,     0x7,     0xB,     0x13,    0x25,    0x43,
+                                                   0x83,    0x11D,   0x211,   0x409,   0x805,   0x1053,  0x201B,
+                                                   0x4443,  0x8003,  0x1100B, 0x20009, 0x40081, 0x80027, 0x100009};
+
+/// a * b in GF(2^k) (carry-less product reduced by kIrreducible[k]); a, b < 2^k.
+constexpr std::uint32_t gfMultiply(std::uint32_t a, std::uint32_t b, std::uint32_t k) {
+    const std::uint32_t top = 1u << k, poly = kIrreducible[k];
+    std::uint32_t r = 0;
+    for (; b != 0; b >>= 1) {
+        if (b & 1u) r ^= a;
+        a <<= 1;
+        if (a & top) a ^= poly;
+    }
+    return r;
+}
+}  // namespace detail
+
+/// A pseudo-random permutation of {0, ..., n-1} for n = 2^k, k <= 20: the affine map
+///   i -> a i + b  in the field GF(2^k),  a != 0 and b hashed from the seed.
+/// These maps form a sharply 2-transitive group, so for a random seed every ordered pair of distinct
+/// indices goes to every ordered pair of distinct values with the same probability: two dimensions
+/// permuted this way are matched like two independent uniform permutations in every pairwise statistic
+/// (correlations, the offsets between images). Cost: k shift-and-xor steps.
 constexpr std::uint32_t permutePowerOfTwo(std::uint32_t i, std::uint32_t k, std::uint32_t seed) {
     if (k == 0) return 0;
-    const std::uint32_t mask = k >= 32 ? 0xFFFFFFFFu : (1u << k) - 1u, shift = k / 2 + 1;
-    i = ((i ^ seed) * 0xe170893du) & mask;
-    i ^= i >> shift;
-    i = ((i ^ (seed >> 8)) * (0x0929eb3fu | (seed >> 27) << 1)) & mask;
-    i ^= i >> shift;
-    i = ((i ^ (seed >> 16)) * 0x6935fa69u) & mask;
-    i ^= i >> shift;
-    return i;
+    const std::uint32_t mask = (1u << k) - 1u, h = hash32(seed);
+    const std::uint32_t a = 1u + (h >> 12) % mask, b = hash32(h ^ 0x9E3779B9u) & mask;
+    return detail::gfMultiply(i & mask, a, k) ^ b;
 }
 
-/// permutePowerOfTwo when n is a power of two, permuteIndex otherwise.
+/// A pseudo-random permutation of {0, ..., n-1}: for n = 2^k <= 2^20 permutePowerOfTwo (exactly
+/// 2-transitive over seeds); otherwise permutePowerOfTwo on the next power of two, cycle-walked (applied
+/// again while the value is n or more: still a bijection of {0..n-1}), followed by Kensler's
+/// permuteIndex with an independent seed, since cycle walking alone leaves the offsets between images
+/// visibly non-uniform (and so does Kensler's hash alone, at small n).
 constexpr std::uint32_t permuteAny(std::uint32_t i, std::uint32_t n, std::uint32_t seed) {
-    if ((n & (n - 1)) == 0) return permutePowerOfTwo(i, static_cast<std::uint32_t>(std::countr_zero(n)), seed);
-    return permuteIndex(i, n, seed);
+    if (n <= 1) return 0;
+    if (n > (1u << 20)) return permuteIndex(permuteIndex(i, n, seed), n, hash32(seed ^ 0x68bc21ebu));
+    const std::uint32_t k = static_cast<std::uint32_t>(std::bit_width(n - 1));
+    std::uint32_t j = permutePowerOfTwo(i, k, seed);
+    if (n == (1u << k)) return j;
+    while (j >= n) j = permutePowerOfTwo(j, k, seed);
+    return permuteIndex(j, n, hash32(seed ^ 0x68bc21ebu));
 }
 
 }  // namespace symphong

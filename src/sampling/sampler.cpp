@@ -37,7 +37,7 @@ Point2 IndependentSampler::value2D(std::uint64_t key, std::uint32_t index, std::
 
 double StratifiedSampler::value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
     const std::uint32_t n = std::max(1u, count), p = low32(hashWords(key, dim, 1));
-    const std::uint32_t s = permuteIndex(index % n, n, p);
+    const std::uint32_t s = permuteAny(index % n, n, p);
     return std::min(kOneBelow, (s + hashUnit(s, p * 0x967a889bu)) / n);
 }
 
@@ -46,9 +46,9 @@ Point2 StratifiedSampler::value2D(std::uint64_t key, std::uint32_t index, std::u
     const std::uint32_t N = std::max(1u, count), p = low32(hashWords(key, dim, 2));
     const std::uint32_t m = std::max(1u, static_cast<std::uint32_t>(std::sqrt(static_cast<double>(N))));
     const std::uint32_t n = (N + m - 1) / m;
-    const std::uint32_t s = permuteIndex(index % N, N, p * 0x51633e2du);
-    const std::uint32_t sx = permuteIndex(s % m, m, p * 0x68bc21ebu);
-    const std::uint32_t sy = permuteIndex(s / m, n, p * 0x02e5be93u);
+    const std::uint32_t s = permuteAny(index % N, N, p * 0x51633e2du);
+    const std::uint32_t sx = permuteAny(s % m, m, p * 0x68bc21ebu);
+    const std::uint32_t sy = permuteAny(s / m, n, p * 0x02e5be93u);
     const double jx = hashUnit(s, p * 0x967a889bu), jy = hashUnit(s, p * 0x368cc8b7u);
     return {std::min(kOneBelow, (sx + (sy + jx) / n) / m), std::min(kOneBelow, (s + jy) / N)};
 }
@@ -74,7 +74,7 @@ Point2 SobolSampler::value2D(std::uint64_t key, std::uint32_t index, std::uint32
 std::uint32_t SampleStream::patternEntry(std::uint32_t entries) {
     const std::uint32_t round = patternRound(entries);
     const std::uint32_t key = low32(hashWords(key_, dim_++, round));
-    return permuteIndex(index_ % entries, entries, key);
+    return permuteAny(index_ % entries, entries, key);
 }
 
 const std::vector<std::string>& samplerNames() {

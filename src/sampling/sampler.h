@@ -65,9 +65,10 @@ public:
 };
 
 /// Jittered strata in every dimension pair: Kensler's correlated multi-jittered pattern with an
-/// m x n grid, m = floor(sqrt(N)), n = ceil(N/m), each sample alone in its x column x row cell and in
-/// its own y stratum of 1/N (for N = m n exactly multi-jittered; otherwise the first N cells in the
-/// permuted order). 1D dimensions: a permuted, jittered stratum of 1/N each.
+/// m x n grid, m = floor(sqrt(N)), n = ceil(N/m). Every sample is alone in its y stratum of 1/N and in
+/// its x sub-column of 1/(m n); for N = m n each of the m x n cells holds exactly one sample
+/// (multi-jittered), otherwise the columns hold floor(N/m) or floor(N/m)+1 samples and a cell may hold
+/// two. 1D dimensions: a permuted, jittered stratum of 1/N each. Permutations: permuteAny.
 class StratifiedSampler final : public Sampler {
 public:
     using Sampler::Sampler;
@@ -78,7 +79,8 @@ public:
 
 /// Padded, Owen-scrambled Sobol' (0,2)-sequence: pair (dim, dim+1) of sample i is
 ///   (owen(sobol0(j), s0), owen(sobol1(j), s1)),  j = permute(i, spp, s2),
-/// with s0, s1, s2 hashed from (pixel key, dim); a 1D dimension is owen(sobol0(j), s0) with its own seeds.
+/// with s0, s1 the two halves of one 64-bit hash of (pixel key, dim) and s2 its middle bits (rehashed
+/// inside permuteAny); a 1D dimension is owen(sobol0(j), s0) with its own seeds.
 class SobolSampler final : public Sampler {
 public:
     using Sampler::Sampler;
