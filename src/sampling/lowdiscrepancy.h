@@ -167,14 +167,15 @@ inline constexpr std::uint32_t kIrreducible[21] = {0x1,     0x3,     0x7,     0x
                                                    0x83,    0x11D,   0x211,   0x409,   0x805,   0x1053,  0x201B,
                                                    0x4443,  0x8003,  0x1100B, 0x20009, 0x40081, 0x80027, 0x100009};
 
-/// a * b in GF(2^k) (carry-less product reduced by kIrreducible[k]); a, b < 2^k.
+/// a * b in GF(2^k) (carry-less product reduced by kIrreducible[k]); a, b < 2^k. Branch-free, k steps:
+/// the bits of b are random, so branches on them would be mispredicted half the time.
 constexpr std::uint32_t gfMultiply(std::uint32_t a, std::uint32_t b, std::uint32_t k) {
-    const std::uint32_t top = 1u << k, poly = kIrreducible[k];
+    const std::uint32_t mask = (1u << k) - 1u, poly = kIrreducible[k] & mask;
     std::uint32_t r = 0;
-    for (; b != 0; b >>= 1) {
-        if (b & 1u) r ^= a;
-        a <<= 1;
-        if (a & top) a ^= poly;
+    for (std::uint32_t t = 0; t < k; ++t, b >>= 1) {
+        r ^= a & (0u - (b & 1u));
+        const std::uint32_t carry = (a >> (k - 1)) & 1u;
+        a = ((a << 1) & mask) ^ (poly & (0u - carry));
     }
     return r;
 }
