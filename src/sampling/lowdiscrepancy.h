@@ -179,19 +179,56 @@ constexpr std::uint32_t gfMultiply(std::uint32_t a, std::uint32_t b, std::uint32
     }
     return r;
 }
+/// x^e in GF(2^k) by square-and-multiply.
+constexpr std::uint32_t gfPowerOfX(std::uint32_t e, std::uint32_t k) {
+    std::uint32_t result = 1, base = k == 1 ? 1u : 2u;
+    for (; e != 0; e >>= 1) {
+        if (e & 1u) result = gfMultiply(result, base, k);
+        base = gfMultiply(base, base, k);
+    }
+    return result;
+}
+
+/// Discrete logarithm and exponential tables of GF(2^k), k = 1..10, base x (the polynomials are
+/// primitive, so x generates the multiplicative group of 2^k - 1 elements): a * b = exp[log a + log b].
+/// exp is stored twice over so that a sum of two logarithms needs no reduction.
+struct GfTables {
+    static constexpr std::uint32_t kMaxK = 10;
+    std::uint16_t exp[kMaxK + 1][2 << kMaxK] = {}, log[kMaxK + 1][1 << kMaxK] = {};
+    constexpr GfTables() {
+        for (std::uint32_t k = 1; k <= kMaxK; ++k) {
+            const std::uint32_t order = (1u << k) - 1u;
+            std::uint32_t v = 1;
+            for (std::uint32_t e = 0; e < order; ++e) {
+                exp[k][e] = exp[k][e + order] = static_cast<std::uint16_t>(v);
+                log[k][v] = static_cast<std::uint16_t>(e);
+                v = gfMultiply(v, k == 1 ? 1u : 2u, k);
+            }
+        }
+    }
+};
+inline constexpr GfTables kGfTables{};
 }  // namespace detail
 
-/// A pseudo-random permutation of {0, ..., n-1} for n = 2^k, k <= 20: the affine map
-///   i -> a i + b  in the field GF(2^k),  a != 0 and b hashed from the seed.
+/// A pseudo-random permutation of {0, ..., n-1} for n = 2^k, 1 <= k <= 20: the affine map
+///   i -> a i + b  in the field GF(2^k),  a != 0 and b taken from the seed (a well-mixed hash).
 /// These maps form a sharply 2-transitive group, so for a random seed every ordered pair of distinct
 /// indices goes to every ordered pair of distinct values with the same probability: two dimensions
 /// permuted this way are matched like two independent uniform permutations in every pairwise statistic
 /// (correlations, the offsets between images). Cost: k shift-and-xor steps.
 constexpr std::uint32_t permutePowerOfTwo(std::uint32_t i, std::uint32_t k, std::uint32_t seed) {
     if (k == 0) return 0;
-    const std::uint32_t mask = (1u << k) - 1u, h = hash32(seed);
-    const std::uint32_t a = 1u + (h >> 12) % mask, b = hash32(h ^ 0x9E3779B9u) & mask;
-    return detail::gfMultiply(i & mask, a, k) ^ b;
+    // The seed is a hash already: a uniform on 1..2^k-1 from its high bits (Lemire's multiply-shift, no
+    // division), b on 0..2^k-1 from the top bits of a multiplicative hash of all its bits.
+    const std::uint32_t mask = (1u << k) - 1u;
+    const std::uint32_t logA = static_cast<std::uint32_t>((static_cast<std::uint64_t>(seed) * mask) >> 32);  // a = x^logA
+    const std::uint32_t b = (seed * 0x9E3779B9u) >> (32 - k);
+    i &= mask;
+    if (k <= detail::GfTables::kMaxK) {  // small k (spp up to 1024): two table look-ups
+        const auto& t = detail::kGfTables;
+        return (i == 0 ? 0u : t.exp[k][t.log[k][i] + logA]) ^ b;
+    }
+    return detail::gfMultiply(i, detail::gfPowerOfX(logA, k), k) ^ b;
 }
 
 /// A pseudo-random permutation of {0, ..., n-1}: for n = 2^k <= 2^20 permutePowerOfTwo (exactly

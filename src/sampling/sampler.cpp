@@ -36,19 +36,21 @@ Point2 IndependentSampler::value2D(std::uint64_t key, std::uint32_t index, std::
 // stratified: Kensler's correlated multi-jittered sampling, one pattern per (pixel, dimension)
 
 double StratifiedSampler::value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
-    const std::uint32_t n = std::max(1u, count), p = low32(hashWords(key, dim, 1));
-    const std::uint32_t s = permuteAny(index % n, n, p);
+    const std::uint64_t h = hashWords(key, dim, 1);
+    const std::uint32_t n = std::max(1u, count), p = low32(h);
+    const std::uint32_t s = permuteAny(index % n, n, high32(h));
     return std::min(kOneBelow, (s + hashUnit(s, p * 0x967a889bu)) / n);
 }
 
 Point2 StratifiedSampler::value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
     // x = (sx + (sy + jx)/n)/m: column sx of m, and inside it row sy of n; y = (s + jy)/N: stratum s of N.
-    const std::uint32_t N = std::max(1u, count), p = low32(hashWords(key, dim, 2));
+    const std::uint64_t h = hashWords(key, dim, 2);
+    const std::uint32_t N = std::max(1u, count), p = low32(h), q = high32(h);
     const std::uint32_t m = std::max(1u, static_cast<std::uint32_t>(std::sqrt(static_cast<double>(N))));
     const std::uint32_t n = (N + m - 1) / m;
-    const std::uint32_t s = permuteAny(index % N, N, p * 0x51633e2du);
-    const std::uint32_t sx = permuteAny(s % m, m, p * 0x68bc21ebu);
-    const std::uint32_t sy = permuteAny(s / m, n, p * 0x02e5be93u);
+    const std::uint32_t s = permuteAny(index % N, N, q);
+    const std::uint32_t sx = permuteAny(s % m, m, hash32(q ^ 0x68bc21ebu));
+    const std::uint32_t sy = permuteAny(s / m, n, hash32(q ^ 0x02e5be93u));
     const double jx = hashUnit(s, p * 0x967a889bu), jy = hashUnit(s, p * 0x368cc8b7u);
     return {std::min(kOneBelow, (sx + (sy + jx) / n) / m), std::min(kOneBelow, (s + jy) / N)};
 }
@@ -65,7 +67,7 @@ double SobolSampler::value1D(std::uint64_t key, std::uint32_t index, std::uint32
 
 Point2 SobolSampler::value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
     const std::uint64_t h = mixSeed(key, 2 * dim);
-    const std::uint32_t j = permuteAny(index, count, static_cast<std::uint32_t>(h >> 16));
+    const std::uint32_t j = permuteAny(index, count, static_cast<std::uint32_t>((h * 0xD6E8FEB86659FD93ull) >> 32));
     return {fixedToUnit(owenScrambledSobol0(j, low32(h))), fixedToUnit(owenScrambledSobol1(j, high32(h)))};
 }
 
