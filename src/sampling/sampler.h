@@ -4,7 +4,7 @@
 // asked for in any order. Dimensions are handed out in pairs (2D) or singly (1D); the path tracer
 // gives each decision of a path (pixel position, light choice and point, the estimator's direction,
 // Russian roulette, ...) its own fixed dimension, so decisions never share a number.
-//   independent — PCG32: one stream per (pixel, sample), advanced to the dimension; no stratification.
+//   independent — PCG32: the pixel's stream, its state seeded from (sample, dimension); no stratification.
 //   stratified  — correlated multi-jittered strata (Kensler 2013) of every dimension pair, padded: each
 //                 pair of each pixel gets its own hashed permutation, any spp (m x n grid, N-rooks in y).
 //   sobol       — the first two Sobol' dimensions, a (0,2)-sequence, Owen-scrambled by hashing; padded:
@@ -79,8 +79,8 @@ public:
 
 /// Padded, Owen-scrambled Sobol' (0,2)-sequence: pair (dim, dim+1) of sample i is
 ///   (owen(sobol0(j), s0), owen(sobol1(j), s1)),  j = permute(i, spp, s2),
-/// with s0, s1 the two halves of one 64-bit hash of (pixel key, dim) and s2 its middle bits (rehashed
-/// inside permuteAny); a 1D dimension is owen(sobol0(j), s0) with its own seeds.
+/// with s0, s1 the two halves of one 64-bit hash h of (pixel key, dim) and s2 the high half of h times
+/// an odd constant; a 1D dimension is owen(sobol0(j), s0) with its own hash.
 class SobolSampler final : public Sampler {
 public:
     using Sampler::Sampler;
