@@ -165,7 +165,7 @@ TEST_F(TinyStudy, FlagsThePaperAsBiasedAndNotCosine) {
 TEST_F(TinyStudy, CsvHasAStableSchemaAndOneRowPerRender) {
     const std::string csv = readAll(*dir_ / "results.csv");
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
-              "scene,estimator,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
+              "scene,estimator,variant,sampler,mode,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
               "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
               "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2 * 2);
@@ -184,12 +184,48 @@ TEST_F(TinyStudy, JsonHasConfigRowsSummaryAndConclusion) {
     for (const char* key : {"config", "rows", "summary", "conclusion"}) EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["rows"].size(), 8u);
     EXPECT_EQ(j["summary"].size(), 4u);
-    for (const char* key : {"estimator", "spp", "repeat", "seconds", "rays", "rmse", "relmse", "mse", "efficiency",
+    for (const char* key : {"estimator", "variant", "sampler", "mode", "spp", "repeat", "seconds", "rays", "rmse", "relmse", "mse", "efficiency",
                             "group_relative_bias", "group_bias_std_error", "group_bias_significant", "group_pixel_variance"})
         EXPECT_TRUE(j["rows"][0].contains(key)) << key;
     for (const char* key : {"estimator", "spp", "seconds", "rmse", "rmse_spread", "efficiency", "relative_bias", "bias_significant"})
         EXPECT_TRUE(j["summary"][0].contains(key)) << key;
-    for (const char* key : {"estimators", "spp", "repeats", "reference", "heatmap"}) EXPECT_TRUE(j["config"].contains(key)) << key;
+    for (const char* key : {"estimators", "samplers", "variants", "spp", "repeats", "reference", "heatmap"})
+        EXPECT_TRUE(j["config"].contains(key)) << key;
+}
+
+// --samplers and --symmetric-modes: one variant per estimator x sampler (x mode for the set estimators),
+// `stratified` once (its own sampler), each with its rows, the sampler it really used, and a conclusion
+// that compares the samplers.
+TEST(StudyVariants, SamplersAndModesMakeVariants) {
+    StudyConfig c;
+    c.estimators = {"cosine", "stratified", "symmetric"};
+    c.samplers = {"independent", "sobol"};
+    c.modes = {SymmetricMode::Branch, SymmetricMode::Spread};
+    std::vector<std::string> labels;
+    for (const StudyVariant& v : studyVariants(c)) labels.push_back(v.label);
+    EXPECT_EQ(labels, (std::vector<std::string>{"cosine@independent", "cosine@sobol", "stratified", "symmetric@independent",
+                                                 "symmetric@sobol", "symmetric+spread@independent", "symmetric+spread@sobol"}));
+    const fs::path dir = fs::temp_directory_path() / ("symphong-study-variants-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    c.outDir = dir.string();
+    c.width = c.height = 12;
+    c.spps = {4};
+    c.repeats = 2;
+    c.referenceSpp = 64;
+    c.plots = false;
+    const StudyOutcome o = runStudy(c);
+    ASSERT_EQ(o.rows.size(), 7u * 2u);
+    for (const StudyRow& r : o.rows) {
+        const bool spread = r.variant.find("+spread") != std::string::npos;
+        EXPECT_EQ(r.mode, spread ? "spread" : "branch") << r.variant;
+        EXPECT_EQ(r.sampler, r.estimator == "stratified" ? "stratified" : r.variant.substr(r.variant.find('@') + 1)) << r.variant;
+        // A branch-mode symmetric camera sample traces its whole set; spread mode one path.
+        if (r.estimator == "symmetric" && !spread) {
+            EXPECT_GT(r.rays, 4u * 12u * 12u * 8u) << r.variant;
+        }
+    }
+    EXPECT_NE(o.conclusion.find("lower MSE than `cosine@independent`"), std::string::npos) << o.conclusion;
+    fs::remove_all(dir);
 }
 
 TEST_F(TinyStudy, WritesTheReportHeatmapsAndRenders) {
