@@ -55,6 +55,9 @@ std::vector<Config> unbiasedConfigs() {
     return configs;
 }
 
+/// How GoogleTest prints a Config (instead of its bytes).
+[[maybe_unused]] void PrintTo(const Config& c, std::ostream* os) { *os << c.label(); }
+
 class EstimatorFurnace : public ::testing::TestWithParam<Config> {};
 
 }  // namespace
