@@ -76,6 +76,11 @@
 #include "math/frame.h"
 #include "math/vec3.h"
 
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -493,6 +498,17 @@ inline ChiSquareResult chiSquareSphere(const std::vector<Vec3>& dirs, const std:
 
 /// Integral of a non-negative function over the sphere by the grid's adaptive quadrature (the sum of its cells'
 /// integrals; opts chooses the grid, e.g. an axis and concentration for a narrow lobe).
+/// One run of a TEST of `runs` chi-square runs: alpha = sidakAlpha(runs), so the TEST as a whole rejects
+/// a correct sampler with probability 0.01. A GoogleTest expectation; SYMPHONG_CHI2_VERBOSE=1 prints
+/// every run's description.
+inline void expectChiSquareFits(const std::string& what, const std::vector<Vec3>& dirs, const std::function<double(const Vec3&)>& pdf,
+                                ChiSquareOptions opts, int runs) {
+    opts.alpha = sidakAlpha(runs);
+    const auto r = chiSquareSphere(dirs, pdf, opts);
+    EXPECT_TRUE(r.passed) << what << ": " << r.describe();
+    if (std::getenv("SYMPHONG_CHI2_VERBOSE")) std::printf("%s: %s\n", what.c_str(), r.describe().c_str());
+}
+
 inline double integrateSphereAdaptive(const std::function<double(const Vec3&)>& f, const ChiSquareOptions& opts = {}) {
     return SphereChiSquare(f, opts).pdfIntegral();
 }

@@ -29,14 +29,9 @@ std::vector<Vec3> draw(const std::function<Vec3(Rng&)>& sampler, std::uint64_t s
     return v;
 }
 
-/// One run of a test of `runs` chi-square runs: alpha = sidakAlpha(runs), so the TEST as a whole rejects
-/// a correct sampler with probability 0.01.
 void expectFits(const std::string& what, const std::vector<Vec3>& dirs, const std::function<double(const Vec3&)>& pdf,
-                test::ChiSquareOptions opts, int runs) {
-    opts.alpha = test::sidakAlpha(runs);
-    const auto r = test::chiSquareSphere(dirs, pdf, opts);
-    EXPECT_TRUE(r.passed) << what << ": " << r.describe();
-    if (std::getenv("SYMPHONG_CHI2_VERBOSE")) std::printf("%s: %s\n", what.c_str(), r.describe().c_str());
+                const test::ChiSquareOptions& opts, int runs) {
+    test::expectChiSquareFits(what, dirs, pdf, opts, runs);
 }
 
 test::ChiSquareOptions aroundAxis(const Vec3& axis, double concentration) {

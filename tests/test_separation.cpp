@@ -66,13 +66,9 @@ test::ChiSquareOptions pieceGrid(double concentration = 0) {
     return o;
 }
 
-/// One run of a TEST of `runs` chi-square runs (alpha = sidakAlpha(runs)).
 void expectFits(const std::string& what, const std::vector<Vec3>& dirs, const std::function<double(const Vec3&)>& pdf,
-                test::ChiSquareOptions opts, int runs) {
-    opts.alpha = test::sidakAlpha(runs);
-    const auto r = test::chiSquareSphere(dirs, pdf, opts);
-    EXPECT_TRUE(r.passed) << what << ": " << r.describe();
-    if (std::getenv("SYMPHONG_CHI2_VERBOSE")) std::printf("%s: %s\n", what.c_str(), r.describe().c_str());
+                const test::ChiSquareOptions& opts, int runs) {
+    test::expectChiSquareFits(what, dirs, pdf, opts, runs);
 }
 
 /// Projected solid angle of a piece kind (closed form).
