@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
                 EstimatorOptions options;
                 options.symmetricMode = parseSymmetricMode(mode);
                 const auto est = makeEstimator(name, options);
-                const bool setEstimator = name == "symmetric" || name == "symmetric-shifted" || name == "paper";
+                const bool setEstimator = hasSymmetricModes(name);
                 if (!setEstimator && mode != modes.front()) continue;
                 for (const std::string& samplerName : samplers) {
                     if (!est->requiredSampler().empty() && samplerName != samplers.front()) continue;

@@ -49,7 +49,7 @@ std::vector<Config> unbiasedConfigs() {
         for (const auto& s : samplerNames()) {
             if (e == "stratified" && s != "stratified") continue;  // bound to its own sampler
             configs.push_back({e, s});
-            if (e == "symmetric" || e == "symmetric-shifted") configs.push_back({e, s, SymmetricMode::Spread});
+            if (hasSymmetricModes(e)) configs.push_back({e, s, SymmetricMode::Spread});  // paper skipped above
         }
     }
     return configs;

@@ -147,8 +147,7 @@ std::vector<std::pair<std::string, EstimatorOptions>> everyConfiguration(std::ve
     std::vector<std::pair<std::string, EstimatorOptions>> out;
     for (const auto& e : estimatorNames())
         for (SymmetricMode mode : {SymmetricMode::Branch, SymmetricMode::Spread}) {
-            const bool set = e == "symmetric" || e == "symmetric-shifted" || e == "paper";
-            if (!set && mode == SymmetricMode::Spread) continue;
+            if (!hasSymmetricModes(e) && mode == SymmetricMode::Spread) continue;
             EstimatorOptions o;
             o.symmetricMode = mode;
             out.push_back({e, o});

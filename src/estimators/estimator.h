@@ -90,6 +90,12 @@ const std::vector<std::string>& estimatorNames();
 /// One line per estimator for --help.
 std::string estimatorHelp();
 
+/// Whether the named estimator has the branch and spread modes (`paper`, `symmetric`, `symmetric-shifted`).
+bool hasSymmetricModes(std::string_view name);
+
+/// The sampler a render or furnace with this estimator uses: the estimator's own, else the one asked for.
+std::string effectiveSampler(const Estimator& estimator, const std::string& requested);
+
 /// Creates an estimator by name; throws std::invalid_argument listing the valid names otherwise, or
 /// naming an option that is out of range.
 std::unique_ptr<Estimator> makeEstimator(std::string_view name, const EstimatorOptions& options = {});

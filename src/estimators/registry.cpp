@@ -31,6 +31,12 @@ SymmetricMode parseSymmetricMode(std::string_view name) {
     throw std::invalid_argument(fmt::format("unknown symmetric mode '{}' (valid: branch, spread)", name));
 }
 
+bool hasSymmetricModes(std::string_view name) { return name == "paper" || name == "symmetric" || name == "symmetric-shifted"; }
+
+std::string effectiveSampler(const Estimator& estimator, const std::string& requested) {
+    return estimator.requiredSampler().empty() ? requested : std::string(estimator.requiredSampler());
+}
+
 std::unique_ptr<Estimator> makeEstimator(std::string_view name, const EstimatorOptions& options) {
     if (options.symmetricN < 1 || options.symmetricN > 4096)
         throw std::invalid_argument(fmt::format("--symmetric-n {} is out of range (1..4096)", options.symmetricN));

@@ -102,13 +102,8 @@ void PaperEstimator::sample(const ShadingContext& ctx, SampleStream& samples, st
     const std::uint32_t rest = triangle ? e : quadrangle ? e - tri : e - 2 * tri;
     const int k = static_cast<int>(rest % 8);
     const std::uint32_t j = triangle || quadrangle ? rest / 8 : 1 + rest / 8;
-    Point2 p;
-    if (ctx.branch) {  // spread mode, first hit: point j of this round, shared by the round's samples
-        samples.setDimension(samples.dimension() + 2 * j);
-        p = samples.roundPoint(K);
-    } else {
-        p = samples.get2D();
-    }
+    // Spread mode, first hit: point j of this round, shared by the round's samples.
+    const Point2 p = samples.entryPoint(K, j, ctx.branch);
     DirectionSample s = triangle     ? terms.triangle(paperTriangleMap(p), paperWeight(p), k)
                         : quadrangle ? terms.quadrangle(paperQuadrangleMap(p), paperWeight(p), k)
                                      : terms.specular(paperTriangleMap(p), k);
@@ -204,13 +199,7 @@ void SymmetricEstimator::sample(const ShadingContext& ctx, SampleStream& samples
     const std::uint32_t entries = round ? static_cast<std::uint32_t>(nPrime_) * pieces : pieces;
     const std::uint32_t e = samples.patternEntry(entries);
     const std::uint32_t piece = e % pieces;
-    Point2 p;
-    if (round) {
-        samples.setDimension(samples.dimension() + 2 * (e / pieces));
-        p = samples.roundPoint(entries);
-    } else {
-        p = samples.get2D();
-    }
+    const Point2 p = samples.entryPoint(entries, e / pieces, round);
     const int k = static_cast<int>(piece % 8);
     const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
     Vec3 wi;

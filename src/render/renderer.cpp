@@ -23,10 +23,6 @@ void cameraRay(const Camera& cam, int width, int height, double px, double py, V
     dir = normalize(forward + right * sx + up * sy);
 }
 
-std::string effectiveSampler(const Estimator& estimator, const std::string& requested) {
-    return estimator.requiredSampler().empty() ? requested : std::string(estimator.requiredSampler());
-}
-
 RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                     std::atomic<std::uint64_t>* progress) {
     const auto start = std::chrono::steady_clock::now();

@@ -42,9 +42,6 @@ struct RenderResult {
 /// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image.
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir);
 
-/// The sampler a render with this estimator uses: the estimator's own, else the one asked for.
-std::string effectiveSampler(const Estimator& estimator, const std::string& requested);
-
 /// Renders the scene. `progress`, when given, is advanced by the number of camera samples finished.
 RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                     std::atomic<std::uint64_t>* progress = nullptr);

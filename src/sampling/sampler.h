@@ -134,6 +134,14 @@ public:
     /// The next pair's values shared by every sample of this sample's round: sample `round` of a
     /// pattern of patternRounds(entries) samples, so the rounds' points are themselves stratified.
     Point2 roundPoint(std::uint32_t entries) { return get2DOf(patternRound(entries), patternRounds(entries)); }
+    /// The point of a pattern entry that uses point `pointIndex` of its set: with `shared`, the
+    /// round's point from the pointIndex-th pair after the current dimension (roundPoint); otherwise this
+    /// sample's own next pair.
+    Point2 entryPoint(std::uint32_t entries, std::uint32_t pointIndex, bool shared) {
+        if (!shared) return get2D();
+        dim_ += 2 * static_cast<std::uint64_t>(pointIndex);
+        return roundPoint(entries);
+    }
 
     std::uint64_t pixel() const { return pixel_; }
     std::uint32_t sampleIndex() const { return index_; }

@@ -18,7 +18,7 @@ FurnaceResult runFurnace(const FurnaceSetup& s, const Environment& env) {
 
     FurnaceResult r;
     r.estimator = s.estimator;
-    r.sampler = std::string(estimator->requiredSampler().empty() ? std::string_view(s.sampler) : estimator->requiredSampler());
+    r.sampler = effectiveSampler(*estimator, s.sampler);
     r.environment = env.name;
     r.rhoD = s.rhoD, r.rhoS = s.rhoS, r.n = s.n, r.thetaDeg = s.thetaDeg;
     r.repeats = s.repeats;

@@ -93,7 +93,7 @@ std::vector<StudyVariant> studyVariants(const StudyConfig& c) {
     std::vector<StudyVariant> out;
     for (const std::string& e : c.estimators) {
         const auto probe = makeEstimator(e, c.options);
-        const bool set = e == "symmetric" || e == "symmetric-shifted" || e == "paper";
+        const bool set = hasSymmetricModes(e);
         for (SymmetricMode mode : set ? c.modes : std::vector<SymmetricMode>{SymmetricMode::Branch})
             for (const std::string& sampler : c.samplers) {
                 StudyVariant v;
