@@ -103,6 +103,9 @@ Vec3 triangleMap(Point2 p);
 Vec3 quadrangleMap(Point2 p);
 /// Inverse of G on [0, pi/4], exposed for tests.
 double quadrangleAzimuth(double area);
+/// tan of quadrangleAzimuth(area), what the map uses: a cubic Hermite table of G^-1 in t = tan(phi)
+/// and one Newton step on G(atan t) = area (two arctangents, no tangent or cosine).
+double quadrangleTangent(double area);
 /// Density of the piece's map at w (solid angle), w in that piece: cos(theta) / Phi_piece.
 inline double pieceDensity(PieceKind kind, const Vec3& w) {
     return w.z / (kind == PieceKind::Triangle ? kTriangleProjected : kQuadrangleProjected);
