@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
@@ -39,6 +40,8 @@ Accel::Accel(const Scene& scene) {
     rtcReleaseGeometry(geom);
     rtcCommitScene(scene_);
     if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw std::runtime_error("Embree failed to build the scene");
+    packets_ = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0 ||
+               rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_RAY_STREAM_SUPPORTED) != 0;
 }
 
 Accel::~Accel() {
@@ -71,6 +74,50 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     return true;
+}
+
+void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found) const {
+    if (!packets_) {
+        for (std::size_t i = 0; i < n; ++i)
+            found[i] = intersect(o, dirs[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
+        return;
+    }
+    const float ox = static_cast<float>(o.x), oy = static_cast<float>(o.y), oz = static_cast<float>(o.z);
+    for (std::size_t first = 0; first < n; first += 16) {
+        const std::size_t count = std::min<std::size_t>(16, n - first);
+        alignas(64) int valid[16];
+        alignas(64) RTCRayHit16 rh;
+        for (std::size_t k = 0; k < 16; ++k) {
+            valid[k] = k < count ? -1 : 0;
+            const Vec3& d = dirs[first + std::min(k, count - 1)];  // inactive lanes repeat a valid ray
+            rh.ray.org_x[k] = ox;
+            rh.ray.org_y[k] = oy;
+            rh.ray.org_z[k] = oz;
+            rh.ray.dir_x[k] = static_cast<float>(d.x);
+            rh.ray.dir_y[k] = static_cast<float>(d.y);
+            rh.ray.dir_z[k] = static_cast<float>(d.z);
+            rh.ray.tnear[k] = static_cast<float>(tnear);
+            rh.ray.tfar[k] = std::numeric_limits<float>::infinity();
+            rh.ray.time[k] = 0;
+            rh.ray.mask[k] = 0xFFFFFFFFu;
+            rh.ray.id[k] = static_cast<unsigned>(k);
+            rh.ray.flags[k] = 0;
+            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        rtcIntersect16(valid, scene_, &ctx, &rh);
+        for (std::size_t k = 0; k < count; ++k) {
+            found[first + k] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+            if (!found[first + k]) continue;
+            Hit& h = hits[first + k];
+            h.t = rh.ray.tfar[k];
+            h.prim = rh.hit.primID[k];
+            h.u = rh.hit.u[k];
+            h.v = rh.hit.v[k];
+        }
+    }
 }
 
 bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) const {

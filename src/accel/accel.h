@@ -1,11 +1,13 @@
 // accel/ — ray queries. Owns the Intel Embree 3 device and scene built from a Scene's triangles, and
-// answers closest-hit and any-hit (shadow) queries for single rays. Geometry crosses into float here;
-// everything above it stays in double.
+// answers closest-hit and any-hit (shadow) queries for single rays and closest-hit queries for bundles
+// of rays from one origin (16-wide packets). Geometry crosses into float here; everything above it
+// stays in double.
 #pragma once
 
 #include "math/vec3.h"
 #include "scene/scene.h"
 
+#include <cstddef>
 #include <cstdint>
 
 struct RTCDeviceTy;
@@ -28,6 +30,11 @@ public:
 
     /// Closest hit along o + t d, t in (tnear, tfar). d need not be unit length.
     bool intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, Hit& hit) const;
+    /// Closest hits of n rays o + t dirs[i], t in (tnear, inf), sharing the origin o: traced as 16-wide
+    /// Embree packets (rtcIntersect16) where the device supports them, else one by one. found[i] says
+    /// whether ray i hit; hits[i] is its hit. The same answers as intersect() ray by ray, to float
+    /// round-off of the packet kernels.
+    void intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found) const;
     /// Whether anything blocks o + t d for t in (tnear, tfar).
     bool occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) const;
 
@@ -36,6 +43,7 @@ public:
 private:
     RTCDeviceTy* device_ = nullptr;
     RTCSceneTy* scene_ = nullptr;
+    bool packets_ = false;  ///< the device has native or emulated 16-wide packets
 };
 
 }  // namespace symphong

@@ -75,8 +75,10 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
 }
 
 Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const {
-    if (scratch.directions.size() < static_cast<std::size_t>(settings_.maxDepth) + 1)
+    if (scratch.directions.size() < static_cast<std::size_t>(settings_.maxDepth) + 1) {
         scratch.directions.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
+        scratch.bundles.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
+    }
     PathContext pc{samples, stats, scratch};
     return radiance(o, d, 0, 0, 0.0, Color(1.0), pc);
 }
@@ -87,9 +89,14 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_
                            PathContext& pc) const {
     Hit hit;
     ++pc.stats.rays;
-    if (!accel_.intersect(o, d, depth == 0 ? 0.0 : epsilon_, std::numeric_limits<double>::infinity(), hit))
-        return scene_.environment;
+    const bool found = accel_.intersect(o, d, depth == 0 ? 0.0 : epsilon_, std::numeric_limits<double>::infinity(), hit);
+    return shade(o, d, found ? &hit : nullptr, depth, path, prevMisPdf, throughput, pc);
+}
 
+Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int depth, std::uint64_t path, double prevMisPdf,
+                        const Color& throughput, PathContext& pc) const {
+    if (!found) return scene_.environment;
+    const Hit& hit = *found;
     const Triangle& tri = scene_.triangles[hit.prim];
     const PhongMaterial& mat = scene_.materials[tri.material];
     const Vec3 p = o + d * hit.t;
@@ -139,6 +146,8 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_
     // continues this path.
     const double branches = static_cast<double>(std::max<std::size_t>(1, dirs.size()));
     const bool branching = dirs.size() > 1;
+    RayBundle& bundle = pc.scratch.bundles[static_cast<std::size_t>(depth)];
+    bundle.rays.clear();
     for (std::size_t k = 0; k < dirs.size(); ++k) {
         const DirectionSample& s = dirs[k];
         const Vec3 wi = frame.toWorld(s.wi);
@@ -152,7 +161,25 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_
             if (!(survive > 0) || samples.get1D() >= survive) continue;
             next /= survive;
         }
-        L += s.weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
+        if (!branching) return L + s.weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
+        bundle.rays.push_back({wi, s.weight, next, s.misPdf, survive, nextPath});
+    }
+    if (bundle.rays.empty()) return L;
+    // A set's surviving rays share this origin: one closest-hit query for all of them (16-wide packets),
+    // then each continues as its own path.
+    const std::size_t n = bundle.rays.size();
+    if (bundle.capacity < n) {
+        bundle.found = std::make_unique<bool[]>(n);
+        bundle.capacity = n;
+    }
+    bundle.dirs.resize(n);
+    bundle.hits.resize(n);
+    for (std::size_t i = 0; i < n; ++i) bundle.dirs[i] = bundle.rays[i].wi;
+    accel_.intersectBundle(origin, bundle.dirs.data(), n, epsilon_, bundle.hits.data(), bundle.found.get());
+    pc.stats.rays += n;
+    for (std::size_t i = 0; i < n; ++i) {
+        const RayBundle::Ray& r = bundle.rays[i];
+        L += r.weight * shade(origin, r.wi, bundle.found[i] ? &bundle.hits[i] : nullptr, depth + 1, r.path, r.misPdf, r.next, pc) / r.survive;
     }
     return L;
 }

@@ -11,6 +11,7 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace symphong {
@@ -62,9 +63,27 @@ struct SampleDimensions {
     }
 };
 
+/// The continuing rays of a branching vertex (a set estimator's directions), traced together.
+struct RayBundle {
+    struct Ray {
+        Vec3 wi;              ///< world direction
+        Color weight;         ///< the estimator's weight
+        Color next;           ///< throughput that steers roulette further on
+        double misPdf;
+        double survive;       ///< Russian roulette survival probability (already passed)
+        std::uint64_t path;   ///< the branch's path number (its dimensions)
+    };
+    std::vector<Ray> rays;
+    std::vector<Vec3> dirs;
+    std::vector<Hit> hits;
+    std::unique_ptr<bool[]> found;
+    std::size_t capacity = 0;
+};
+
 /// Per-thread working memory of the path tracer.
 struct PathScratch {
     std::vector<std::vector<DirectionSample>> directions;  ///< one buffer per depth
+    std::vector<RayBundle> bundles;                        ///< one per depth
 };
 
 class PathTracer {
@@ -86,6 +105,10 @@ private:
     };
     Color radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
                    PathContext& pc) const;
+    /// The vertex that o + t d reached (hit, or nullptr when it left the scene): its emission, NEE and
+    /// continuation.
+    Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf,
+                const Color& throughput, PathContext& pc) const;
     Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
 
     const Scene& scene_;

@@ -1,0 +1,68 @@
+// accel/: the bundle query (16-wide packets) answers as the single-ray query does, ray by ray, at every
+// bundle size around the packet width, for rays that hit and rays that leave the scene.
+#include "accel/accel.h"
+#include "sampling/rng.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace symphong {
+namespace {
+
+void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed) {
+    const Accel accel(scene);
+    Vec3 lo, hi;
+    scene.bounds(lo, hi);
+    Rng rng(seed, 3);
+    std::size_t hitsSeen = 0, missesSeen = 0;
+    for (std::size_t n : {1u, 2u, 15u, 16u, 17u, 24u, 32u, 33u, 40u}) {
+        for (int trial = 0; trial < 20; ++trial) {
+            // An origin inside the bounds, directions over the whole sphere (some leave the scene).
+            const Vec3 o(lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(),
+                         lo.z + (hi.z - lo.z) * rng.uniform());
+            std::vector<Vec3> dirs(n);
+            for (Vec3& d : dirs) {  // uniform on the sphere, lengths 0.5 to 1.5 (directions need not be unit)
+                const double z = 1 - 2 * rng.uniform(), phi = kTwoPi * rng.uniform(), r = std::sqrt(1 - z * z);
+                d = Vec3(r * std::cos(phi), r * std::sin(phi), z) * (0.5 + rng.uniform());
+            }
+            std::vector<Hit> hits(n);
+            auto found = std::make_unique<bool[]>(n);
+            accel.intersectBundle(o, dirs.data(), n, 1e-4, hits.data(), found.get());
+            for (std::size_t i = 0; i < n; ++i) {
+                Hit single;
+                const bool f = accel.intersect(o, dirs[i], 1e-4, std::numeric_limits<double>::infinity(), single);
+                ASSERT_EQ(found[i], f) << "n = " << n << ", ray " << i;
+                if (!f) {
+                    ++missesSeen;
+                    continue;
+                }
+                ++hitsSeen;
+                EXPECT_EQ(hits[i].prim, single.prim) << "n = " << n << ", ray " << i;
+                EXPECT_NEAR(hits[i].t, single.t, 1e-5 * single.t) << "n = " << n << ", ray " << i;
+                EXPECT_NEAR(hits[i].u, single.u, 1e-5);
+                EXPECT_NEAR(hits[i].v, single.v, 1e-5);
+            }
+        }
+    }
+    // The comparison covered both answers.
+    EXPECT_GT(hitsSeen, 100u);
+    EXPECT_GT(missesSeen, 100u);
+}
+
+TEST(Accel, BundleMatchesSingleRaysInTheCornellBox) {
+    Scene s = makeCornellBox();
+    finalizeScene(s, "cornell", false);
+    expectBundleMatchesSingleRays(s, 1);
+}
+
+TEST(Accel, BundleMatchesSingleRaysOnTheBunny) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    expectBundleMatchesSingleRays(loadScene(test::scenesDir() + "/bunny/stanford-bunny.obj"), 2);
+}
+
+}  // namespace
+}  // namespace symphong
