@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -44,6 +45,9 @@ protected:
         EXPECT_EQ(r.code, 2) << r.err;
         EXPECT_NE(r.err.find(expected), std::string::npos) << "stderr was: " << r.err;
         EXPECT_NE(r.err.find("error"), std::string::npos) << r.err;
+        // One line: the message and nothing else (no usage dump, no second line).
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr was: " << r.err;
+        EXPECT_TRUE(!r.err.empty() && r.err.back() == '\n') << r.err;
         EXPECT_EQ(filesInDir(), before) << "a failed run must not create files: " << r.err;
     }
     fs::path dir_;
@@ -96,10 +100,23 @@ TEST_F(Cli, BadScenesAreRejected) {
 
 TEST_F(Cli, EveryMalformedObjExitsTwoAndWritesNothing) {
     SYMPHONG_REQUIRE_SCENES_DIR();
+    int files = 0;
     for (const auto& e : fs::directory_iterator(test::scenesDir() + "/malformed"))
-        if (e.path().extension() == ".obj")
+        if (e.path().extension() == ".obj") {
+            // The message names the file, and the line where the format has one: "name.obj:LINE:".
             expectBadInput({"render", e.path().string(), "--spp", "1", "-W", "8", "-H", "8", "-o", out("m.png")},
-                           e.path().filename().string());
+                           e.path().filename().string() + ":");
+            ++files;
+        }
+    EXPECT_EQ(files, 5) << "the shared scenes' malformed/ holds five OBJ files";
+}
+
+// A JSON scene's syntax error names file:line:column; a semantic one the element's path.
+TEST_F(Cli, MalformedJsonNamesTheLineOrTheElement) {
+    expectBadInput({"render", write("syntax.json", "{\n  \"builtin\": \"cornell\",\n  \"environment\": 0.5,,\n}\n"), "-o", out("a.png")},
+                   "syntax.json:3:");
+    expectBadInput({"render", write("neg.json", "{\"builtin\": \"cornell\", \"materials\": {\"white\": {\"ns\": -2}}}"), "-o", out("a.png")},
+                   "materials.white.ns");
 }
 
 TEST_F(Cli, AFailedRunLeavesAnExistingOutputUntouched) {
@@ -172,7 +189,10 @@ TEST_F(Cli, FurnaceRejectsBadInput) {
     expectBadInput({"furnace", "--theta", "90"}, "--theta");
     expectBadInput({"furnace", "--rho-d", "1.5"}, "--rho-d");
     expectBadInput({"furnace", "-M", "1"}, "--repeats");
-    expectBadInput({"furnace", "-M", "10", "--json", out("nodir/x/") }, "x");
+    fs::create_directories(dir_ / "adir");
+    expectBadInput({"furnace", "-M", "10", "--json", out("adir")}, "adir: is a directory");
+    write("afile", "x");
+    expectBadInput({"furnace", "-M", "10", "--json", out("afile") + "/sub/f.json"}, "afile/sub: ");
 }
 
 // The sampler options: names checked, every sampler renders, --seed and --threads through the CLI give

@@ -1,11 +1,18 @@
-// Image output: sRGB encoding, PNG and EXR round trips, and atomic replacement.
+// Image output: sRGB encoding, PNG and EXR round trips, and atomic replacement (a write that fails
+// half way leaves the target untouched).
 #include "io/image.h"
 #include "io/input_error.h"
 
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <csignal>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace symphong;
 namespace fs = std::filesystem;
@@ -82,4 +89,51 @@ TEST(ImageFormat, FromExtension) {
     EXPECT_EQ(imageFormatFor("b.exr"), ImageFormat::Exr);
     EXPECT_THROW(imageFormatFor("b.tiff"), InputError);
     EXPECT_THROW(imageFormatFor("noext"), InputError);
+}
+
+// A write that fails half way (here: the file-size limit is hit inside libpng/OpenEXR) leaves the
+// target as it was and no temporary file: the writers go through a temporary file and a rename. Run in
+// a child process, so the limit does not touch the test runner.
+TEST(AtomicWrite, AFailedImageWriteLeavesTheTargetUntouched) {
+    for (const char* ext : {".png", ".exr"}) {
+        const fs::path dir = tmp(std::string("atomic") + (ext + 1));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        const fs::path target = dir / (std::string("image") + ext);
+        { std::FILE* f = std::fopen(target.string().c_str(), "wb"); std::fputs("previous contents", f); std::fclose(f); }
+        // A noisy image far larger than the limit once encoded.
+        Image big(256, 256);
+        std::uint32_t state = 12345;
+        for (Color& c : big.pixels) {
+            state = state * 1664525u + 1013904223u;
+            c = Color((state >> 8) / 16777216.0, (state >> 4 & 0xFFFF) / 65536.0, (state & 0xFFF) / 4096.0);
+        }
+        const pid_t pid = fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails with EFBIG instead of killing us
+            rlimit limit{4096, 4096};
+            setrlimit(RLIMIT_FSIZE, &limit);
+            try {
+                writeImage(big, target.string());
+            } catch (const InputError&) {
+                _exit(3);  // the failure was reported as an input error, as the CLI needs
+            } catch (...) {
+                _exit(4);
+            }
+            _exit(0);
+        }
+        int status = 0;
+        waitpid(pid, &status, 0);
+        ASSERT_TRUE(WIFEXITED(status)) << ext;
+        EXPECT_EQ(WEXITSTATUS(status), 3) << ext << ": the write past the size limit must fail with an InputError";
+        std::ifstream in(target, std::ios::binary);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        EXPECT_EQ(ss.str(), "previous contents") << ext << ": a failed write must leave the target untouched";
+        std::size_t files = 0;
+        for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
+        EXPECT_EQ(files, 1u) << ext << ": the temporary file must be removed";
+        fs::remove_all(dir);
+    }
 }

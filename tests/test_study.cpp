@@ -10,12 +10,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <thread>
 
 #include <unistd.h>
 
@@ -154,7 +152,7 @@ TEST_F(TinyStudy, FlagsThePaperAsBiasedAndNotCosine) {
     ASSERT_FALSE(outcome_->cancelled);
     for (const StudySummary& s : outcome_->summary) {
         if (s.estimator == "paper") {
-            EXPECT_TRUE(s.biasSignificant || s.spp < 64) << s.spp << " spp: z = " << s.biasZ;
+            EXPECT_TRUE(s.biasSignificant) << s.spp << " spp: z = " << s.biasZ;
         } else {
             EXPECT_FALSE(s.biasSignificant) << s.estimator << " " << s.spp << " spp: z = " << s.biasZ;
         }
@@ -175,8 +173,15 @@ TEST_F(TinyStudy, CsvHasAStableSchemaAndOneRowPerRender) {
         EXPECT_GT(r.rays, 0u);
         EXPECT_EQ(r.samples, 16u * 16u * r.spp);
         EXPECT_GT(r.rmse, 0);
-        EXPECT_NEAR(r.efficiency, 1.0 / (r.mse * r.seconds), 1e-9 * r.efficiency);
     }
+    // The MSE is a real error measure: for the unbiased `cosine` it falls about as 1/spp (4x from 16 to
+    // 64 spp; between 2x and 8x allows for the noise of 2 repeats of a 16x16 image).
+    double mse16 = 0, mse64 = 0;
+    for (const StudyRow& r : outcome_->rows)
+        if (r.estimator == "cosine") (r.spp == 16 ? mse16 : mse64) += r.mse;
+    ASSERT_GT(mse64, 0);
+    EXPECT_GT(mse16 / mse64, 2.0);
+    EXPECT_LT(mse16 / mse64, 8.0);
 }
 
 TEST_F(TinyStudy, JsonHasConfigRowsSummaryAndConclusion) {
@@ -239,18 +244,20 @@ TEST_F(TinyStudy, WritesTheReportHeatmapsAndRenders) {
 }
 
 TEST_F(TinyStudy, TheReferenceIsCachedAndReusedOnlyWhenTheSettingsMatch) {
-    const auto stamp = fs::last_write_time(*dir_ / "reference.exr");
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(outcome_->referenceRendered) << "the suite's first study renders its reference";
+    const std::string exr = readAll(*dir_ / "reference.exr");
     StudyConfig c = tinyConfig(*dir_);
     c.estimators = {"cosine"};
     c.spps = {4};
-    runStudy(c);
-    EXPECT_EQ(fs::last_write_time(*dir_ / "reference.exr"), stamp) << "same settings: the cached reference is reused";
+    EXPECT_FALSE(runStudy(c).referenceRendered) << "same settings: the cached reference is reused";
+    EXPECT_EQ(readAll(*dir_ / "reference.exr"), exr);
     c.referenceSpp = 256;
-    runStudy(c);
-    EXPECT_NE(fs::last_write_time(*dir_ / "reference.exr"), stamp) << "other settings: a new reference";
+    EXPECT_TRUE(runStudy(c).referenceRendered) << "other settings: a new reference";
+    EXPECT_NE(readAll(*dir_ / "reference.exr"), exr);
+    EXPECT_EQ(nlohmann::json::parse(readAll(*dir_ / "reference.json"))["key"]["spp"], 256);
     c.referenceSpp = 512;
-    runStudy(c);  // leave the cache as the suite found it
+    EXPECT_TRUE(runStudy(c).referenceRendered);  // leave the cache as the suite found it
+    EXPECT_EQ(readAll(*dir_ / "reference.exr"), exr) << "the same settings render the same reference, bit for bit";
 }
 
 TEST(Study, MakesEveryPlotAsPngAndSvg) {
@@ -269,29 +276,24 @@ TEST(Study, MakesEveryPlotAsPngAndSvg) {
     fs::remove_all(dir);
 }
 
+// Cancelling after a known row (deterministic: the row observer sets the flag) keeps exactly the
+// finished groups.
 TEST(Study, CancellingKeepsTheFinishedRows) {
     const fs::path dir = freshDir("cancel");
     StudyConfig c = tinyConfig(dir);
     c.estimators = {"cosine", "phong"};
-    c.spps = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024};
+    c.spps = {1, 2, 4, 8};
     c.referenceSpp = 16;
     std::atomic<bool> cancel{false};
-    std::thread watcher([&] {
-        // Cancel once the first group's rows are in results.csv.
-        for (int i = 0; i < 20000 && !cancel; ++i) {
-            const std::string csv = fs::exists(dir / "results.csv") ? readAll(dir / "results.csv") : std::string();
-            if (std::count(csv.begin(), csv.end(), '\n') > 2) cancel = true;
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
+    setStudyRowObserver([&](std::size_t rows) {
+        if (rows == 3) cancel = true;  // in the middle of the second group (2 repeats per group)
     });
     const StudyOutcome o = runStudy(c, &cancel);
-    cancel = true;
-    watcher.join();
+    setStudyRowObserver(nullptr);
     EXPECT_TRUE(o.cancelled);
-    EXPECT_FALSE(o.rows.empty());
-    EXPECT_LT(o.rows.size(), 2u * 11 * 2);
+    EXPECT_EQ(o.rows.size(), 2u) << "the unfinished second group is dropped, the first kept";
     const std::string csv = readAll(dir / "results.csv");
-    EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), 1 + o.rows.size());
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2);
     EXPECT_NE(readAll(dir / "report.md").find("Interrupted"), std::string::npos);
     fs::remove_all(dir);
 }
@@ -346,28 +348,20 @@ TEST(Study, CommandLineRejectsBadInput) {
     fs::remove_all(out);
 }
 
-// Ctrl-C through the command line: SIGINT stops the study, exit code 130, finished rows kept.
+// Ctrl-C through the command line: SIGINT (raised after the fourth row, deterministically) stops the
+// study, exit code 130, the two finished groups kept.
 TEST(Study, InterruptFromTheCommandLineKeepsTheFinishedRows) {
     const fs::path dir = freshDir("sigint");
-    std::atomic<bool> done{false};
-    std::thread interrupter([&] {
-        for (int i = 0; i < 30000 && !done; ++i) {
-            const std::string csv = fs::exists(dir / "results.csv") ? readAll(dir / "results.csv") : std::string();
-            if (std::count(csv.begin(), csv.end(), '\n') > 2) {
-                std::raise(SIGINT);
-                return;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
+    setStudyRowObserver([](std::size_t rows) {
+        if (rows == 4) std::raise(SIGINT);
     });
-    const test::CliRun r = test::runCliArgs({"study", "-e", "cosine,phong", "--spp", "1,2,4,8,16,32,64,128,256,512,1024,2048", "-R", "2",
-                                             "-W", "16", "-H", "16", "--reference-spp", "16", "--no-plots", "-o", dir.string()});
-    done = true;
-    interrupter.join();
+    const test::CliRun r = test::runCliArgs({"study", "-e", "cosine,phong", "--spp", "1,2,4,8", "-R", "2", "-W", "16", "-H", "16",
+                                             "--reference-spp", "16", "--no-plots", "-o", dir.string()});
+    setStudyRowObserver(nullptr);
     EXPECT_EQ(r.code, 130) << r.err;
-    EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("interrupted; 4 finished row(s) kept"), std::string::npos) << r.err;
     const std::string csv = readAll(dir / "results.csv");
-    EXPECT_GE(std::count(csv.begin(), csv.end(), '\n'), 3);
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4);
     fs::remove_all(dir);
 }
 

@@ -230,8 +230,11 @@ int runFurnaceCommand(const FurnaceOptions& o) {
     const std::vector<double> exponents = o.grid ? std::vector<double>{1, 10, 100, 1000, 10000} : o.exponents;
     const std::vector<double> thetas = o.grid ? std::vector<double>{0, 30, 60, 85} : o.thetas;
     if (!o.json.empty()) {
-        if (std::filesystem::is_directory(o.json)) throw InputError(fmt::format("--json {}: is a directory", o.json));
-        writeFile(o.json, "");  // fails now, not after the run, if it cannot be written
+        try {
+            checkCanCreate(o.json);  // fails now, not after the run, if it cannot be written
+        } catch (const InputError& e) {
+            throw InputError(fmt::format("--json {}", e.what()));
+        }
     }
     fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  sampler {}  (one-direction estimators: {} calls per estimate)\n", o.rhoD,
                o.rhoS, o.repeats, o.seed, o.sampler, o.directions);
@@ -362,7 +365,12 @@ int runCli(int argc, const char* const* argv) {
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        fmt::print(stderr, "symphong: error: {}\nRun 'symphong --help' or 'symphong render --help' for usage.\n", e.what());
+        // One line: the problem, then where to read about the command that was being parsed.
+        std::string what = e.what();
+        for (std::size_t p = what.find('\n'); p != std::string::npos; p = what.find('\n', p)) what.replace(p, 1, "; ");
+        std::string command = "symphong";
+        for (const CLI::App* sub : app.get_subcommands()) command += " " + sub->get_name();
+        fmt::print(stderr, "symphong: error: {} (see '{} --help')\n", what, command);
         return kBadInput;
     }
     try {

@@ -13,6 +13,8 @@
 
 namespace symphong {
 
+namespace fs = std::filesystem;
+
 std::string readTextFile(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw InputError(fmt::format("{}: no such file", path));
@@ -28,6 +30,21 @@ std::string readTextFile(const std::string& path) {
 std::string temporaryPathFor(const std::string& path) {
     const std::filesystem::path p(path);
     return (p.parent_path() / fmt::format(".{}.tmp-{}", p.filename().string(), ::getpid())).string();
+}
+
+void checkCanCreate(const std::string& path) {
+    const fs::path p(path);
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) throw InputError(fmt::format("{}: is a directory", path));
+    if (!p.parent_path().empty() && !fs::exists(p.parent_path(), ec)) {
+        fs::create_directories(p.parent_path(), ec);
+        if (ec) throw InputError(fmt::format("{}: cannot create directory {}: {}", path, p.parent_path().string(), ec.message()));
+    }
+    const std::string tmp = temporaryPathFor(path);
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) throw InputError(fmt::format("{}: cannot create a file in {}", path, p.parent_path().empty() ? "." : p.parent_path().string()));
+    std::fclose(f);
+    fs::remove(tmp, ec);
 }
 
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {

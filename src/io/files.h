@@ -13,6 +13,10 @@ std::string readTextFile(const std::string& path);
 /// The temporary path writeAtomically uses for `path`: a hidden file in the same directory.
 std::string temporaryPathFor(const std::string& path);
 
+/// Creates the directory of `path` if needed and checks that a file can be created there (without
+/// leaving one), so that a long run fails before it starts, not after. Throws InputError naming `path`.
+void checkCanCreate(const std::string& path);
+
 /// Runs write(tmp) for a temporary path in the target's directory, then renames it onto `path`; on any
 /// failure removes the temporary file and throws InputError naming `path`.
 void writeAtomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);

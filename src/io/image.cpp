@@ -33,18 +33,7 @@ ImageFormat imageFormatFor(const std::string& path) {
 
 void checkWritable(const std::string& path) {
     imageFormatFor(path);
-    const fs::path p(path);
-    std::error_code ec;
-    if (fs::is_directory(p, ec)) throw InputError(fmt::format("{}: is a directory", path));
-    if (!p.parent_path().empty() && !fs::exists(p.parent_path(), ec)) {
-        fs::create_directories(p.parent_path(), ec);
-        if (ec) throw InputError(fmt::format("{}: cannot create directory {}: {}", path, p.parent_path().string(), ec.message()));
-    }
-    const std::string tmp = temporaryPathFor(path);
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw InputError(fmt::format("{}: cannot create a file in {}", path, p.parent_path().empty() ? "." : p.parent_path().string()));
-    std::fclose(f);
-    fs::remove(tmp, ec);
+    checkCanCreate(path);
 }
 
 unsigned char toSrgb8(double linear, double exposure) {

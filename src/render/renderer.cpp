@@ -70,9 +70,12 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
             if (progress) progress->fetch_add(static_cast<std::uint64_t>(std::min(settings.width, (tx + 1) * kTile) - tx * kTile) * spp,
                                               std::memory_order_relaxed);
         }
-        std::lock_guard<std::mutex> lock(statsMutex);
-        result.stats.rays += stats.rays;
-        result.stats.badSamples += stats.badSamples;
+        {
+            std::lock_guard<std::mutex> lock(statsMutex);
+            result.stats.rays += stats.rays;
+            result.stats.badSamples += stats.badSamples;
+        }
+        if (settings.onTileDone) settings.onTileDone();
     };
 
     // --threads N means N threads even above the core count (TBB otherwise caps its workers there).

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace symphong {
@@ -22,6 +23,9 @@ struct RenderSettings {
     TraceSettings trace;
     /// When set and it becomes true, remaining tiles are skipped and the result is marked cancelled.
     const std::atomic<bool>* cancel = nullptr;
+    /// Called on the worker thread after each finished tile (cancelled tiles are not finished); tests
+    /// use it to cancel after a known number of tiles.
+    std::function<void()> onTileDone;
 };
 
 struct RenderStats {

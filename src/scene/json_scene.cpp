@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -59,10 +60,18 @@ Scene loadJsonScene(const std::string& path) {
     try {
         doc = json::parse(text);
     } catch (const json::parse_error& e) {
-        // nlohmann's message already names the line and column.
+        // file:line:column from the byte offset nlohmann reports (1-based; the byte just read), then its
+        // message without the "[json.exception...] parse error at line L, column C: " prefix.
+        const std::size_t byte = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+        std::size_t line = 1, lineStart = 0;
+        for (std::size_t i = 0; i < byte; ++i)
+            if (text[i] == '\n') {
+                ++line;
+                lineStart = i + 1;
+            }
         std::string what = e.what();
-        const auto colon = what.find(": ");
-        throw InputError(fmt::format("{}: malformed JSON: {}", path, colon == std::string::npos ? what : what.substr(colon + 2)));
+        if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
+        throw InputError(fmt::format("{}:{}:{}: malformed JSON: {}", path, line, byte - lineStart + 1, what));
     }
     checkKeys(doc, {"obj", "builtin", "camera", "materials", "environment", "name"}, "the scene", path);
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();

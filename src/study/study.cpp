@@ -318,6 +318,17 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
 
 }  // namespace
 
+namespace {
+
+std::function<void(std::size_t)>& rowObserver() {
+    static std::function<void(std::size_t)> observer;
+    return observer;
+}
+
+}  // namespace
+
+void setStudyRowObserver(std::function<void(std::size_t rows)> observer) { rowObserver() = std::move(observer); }
+
 StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel, bool showProgress) {
     StudyConfig c = config;
     if (c.estimators.empty()) throw InputError("--estimators: the list is empty");
@@ -453,6 +464,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
             outcome.cancelled = true;
             return outcome;
         }
+        outcome.referenceRendered = true;
         reference = r.image;
         refMean = meanLuminance(r.image, &r.variance);
         for (const Color& v : r.variance.pixels) refNoise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
@@ -555,6 +567,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 }
                 images.push_back(r.image);
                 outcome.rows.push_back(row);
+                if (rowObserver()) rowObserver()(outcome.rows.size());
             }
             if (outcome.cancelled) {
                 outcome.rows.resize(firstRow);  // keep only whole groups: their group columns are complete

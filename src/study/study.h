@@ -7,6 +7,7 @@
 #include "estimators/estimator.h"
 
 #include <atomic>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -97,8 +98,13 @@ struct StudyOutcome {
     std::vector<StudySummary> summary;
     bool cancelled = false;
     bool plotted = false;
+    bool referenceRendered = false;  ///< false when the reference was given or taken from the cache
     std::string conclusion;
 };
+
+/// Called after each finished row with the number of rows so far, in every runStudy of the process
+/// (the command line's too); empty by default. Tests use it to stop a study at a known row.
+void setStudyRowObserver(std::function<void(std::size_t rows)> observer);
 
 /// Runs the study; `cancel` (e.g. set by Ctrl-C) stops it between tiles, keeping finished rows in
 /// results.csv. Throws InputError on bad configuration.
