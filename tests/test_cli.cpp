@@ -5,10 +5,12 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 using namespace symphong;
@@ -180,6 +182,20 @@ TEST_F(Cli, FurnacePrintsATableAndWritesJson) {
     EXPECT_EQ(rows, 2u * 2 * 2 * 2);
     for (const char* key : {"\"exact\"", "\"relative_bias\"", "\"z\"", "\"variance_times_directions\"", "\"seconds_per_estimate\""})
         EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
+// --grid runs n in {1, 10, 100, 1000, 10000} x theta in {0, 30, 60, 85}: 20 rows per estimator and
+// environment, with exactly those values.
+TEST_F(Cli, FurnaceGridCoversItsCells) {
+    const CliRun r = runArgs({"furnace", "-e", "cosine", "--environment", "constant", "--grid", "-M", "4", "--json", out("g.json")});
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream in(out("g.json"));
+    const auto rows = nlohmann::json::parse(in);
+    ASSERT_EQ(rows.size(), 20u);
+    std::set<std::pair<double, double>> cells;
+    for (const auto& row : rows) cells.insert({row["n"].get<double>(), row["theta_deg"].get<double>()});
+    for (double n : {1.0, 10.0, 100.0, 1000.0, 10000.0})
+        for (double theta : {0.0, 30.0, 60.0, 85.0}) EXPECT_TRUE(cells.count({n, theta})) << "n " << n << " theta " << theta;
 }
 
 TEST_F(Cli, FurnaceRejectsBadInput) {

@@ -317,3 +317,99 @@ TEST(Render, CancellingAfterKTilesStopsThere) {
         else EXPECT_LE(drawn, 3 + threads - 1);
     }
 }
+
+namespace {
+
+/// A quad (two triangles) with corners a, b, c, d counter-clockwise as seen from the side it faces.
+void addQuad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t material) {
+    const auto base = static_cast<std::uint32_t>(s.positions.size());
+    for (const Vec3& p : {a, b, c, d}) s.positions.push_back(p);
+    s.triangles.push_back({{base, base + 1, base + 2}, {-1, -1, -1}, material});
+    s.triangles.push_back({{base, base + 2, base + 3}, {-1, -1, -1}, material});
+}
+
+/// Material 0 emits Le = 1 (and reflects nothing); material 1 is white diffuse.
+Scene emitterScene() {
+    Scene s;
+    PhongMaterial light;
+    light.name = "light";
+    light.rhoD = Color(0.0);
+    light.emission = Color(1.0);
+    PhongMaterial white;
+    white.name = "white";
+    white.rhoD = Color(0.8);
+    s.materials = {light, white};
+    s.camera.position = Vec3(0, 0, 0);
+    s.camera.target = Vec3(0, 0, -1);
+    s.camera.up = Vec3(0, 1, 0);
+    s.camera.fovY = 90;
+    return s;
+}
+
+double imageMean(const Image& img) {
+    double sum = 0;
+    for (const Color& c : img.pixels) sum += luminance(c);
+    return sum / static_cast<double>(img.pixels.size());
+}
+
+}  // namespace
+
+// Emitters are one-sided: seen from behind, and lighting a floor they face away from, they give nothing;
+// turned around, the same geometry lights the camera and the floor. Every estimator, with and without
+// light sampling.
+TEST(Emitters, EmitFromTheirFrontSideOnly) {
+    for (bool facing : {false, true}) {
+        // A light square in front of the camera, tilted so that its front faces both the camera and the
+        // floor below it (facing), or wound the other way round so that both see its back.
+        Scene s = emitterScene();
+        const Vec3 a(-1, -0.2, -2.6), b(1, -0.2, -2.6), c(1, 1, -2), d(-1, 1, -2);  // normal (0, -0.45, 0.89)
+        if (facing) addQuad(s, a, b, c, d, 0);
+        else addQuad(s, a, d, c, b, 0);  // the same square wound the other way: normal away from camera and floor
+        // The floor, normal +y, ends in front of the light (z >= -2): all of it sees the light's back
+        // when the light is turned away (beyond the light, in -z, the floor would see its front).
+        addQuad(s, Vec3(-5, -1, 1), Vec3(5, -1, 1), Vec3(5, -1, -2), Vec3(-5, -1, -2), 1);
+        for (const std::string& name : estimatorNames())
+            for (bool nee : {true, false}) {
+                const RenderResult r = test::renderTiny(s, name, 16, 8, 3, 0, nee, 4);
+                // The floor region below the light: the bottom rows of the image.
+                double floorLight = 0;
+                for (int y = 12; y < 16; ++y)
+                    for (int x = 0; x < 16; ++x) floorLight += luminance(r.image.at(x, y));
+                if (facing) {
+                    EXPECT_GT(imageMean(r.image), 0.05) << name << (nee ? " with" : " without") << " NEE";
+                    EXPECT_GT(floorLight, 0) << name << (nee ? " with" : " without") << " NEE";
+                } else {
+                    EXPECT_EQ(imageMean(r.image), 0.0) << name << (nee ? " with" : " without") << " NEE: light from an emitter's back";
+                }
+            }
+    }
+}
+
+// Camera geometry: with a 90-degree field of view, an emitter covering exactly the half-plane x < 0 at
+// depth 1 fills the left half of an even-width image: the left columns are fully lit (Le on every
+// sample), the right ones black; the same for y and the top rows. A half-pixel shift of the rays, or
+// a flipped axis, moves the edge into a column.
+TEST(Camera, ImageEdgesLandOnPixelEdges) {
+    for (bool vertical : {false, true}) {
+        Scene s = emitterScene();
+        if (!vertical) addQuad(s, Vec3(-10, -10, -1), Vec3(0, -10, -1), Vec3(0, 10, -1), Vec3(-10, 10, -1), 0);  // x < 0
+        else addQuad(s, Vec3(-10, 0, -1), Vec3(10, 0, -1), Vec3(10, 10, -1), Vec3(-10, 10, -1), 0);          // y > 0: top
+        for (const char* sampler : {"independent", "sobol"}) {
+            const auto est = makeEstimator("cosine");
+            RenderSettings rs;
+            rs.width = 8;
+            rs.height = 6;
+            rs.spp = 64;
+            rs.sampler = sampler;
+            rs.trace.maxDepth = 0;
+            const Accel accel(s);
+            const RenderResult r = render(s, accel, *est, rs);
+            for (int y = 0; y < rs.height; ++y)
+                for (int x = 0; x < rs.width; ++x) {
+                    const bool lit = vertical ? y < rs.height / 2 : x < rs.width / 2;
+                    EXPECT_EQ(r.image.at(x, y).x, lit ? 1.0 : 0.0) << sampler << (vertical ? " top half" : " left half") << ": pixel (" << x
+                                                                   << ", " << y << ")";
+                }
+        }
+    }
+}

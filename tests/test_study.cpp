@@ -260,6 +260,27 @@ TEST_F(TinyStudy, TheReferenceIsCachedAndReusedOnlyWhenTheSettingsMatch) {
     EXPECT_EQ(readAll(*dir_ / "reference.exr"), exr) << "the same settings render the same reference, bit for bit";
 }
 
+// A given --reference is used as it is: nothing rendered for it, the report says it was given, and the
+// errors are measured against it (a reference twice as bright makes every row's bias about -50%).
+TEST_F(TinyStudy, AGivenReferenceIsUsedInsteadOfRendering) {
+    Image doubled = readExr((*dir_ / "reference.exr").string());
+    for (Color& c : doubled.pixels) c *= 2.0;
+    const fs::path dir = freshDir("given");
+    fs::create_directories(dir);
+    const std::string refPath = (dir / "given.exr").string();
+    writeExr(doubled, refPath);
+    StudyConfig c = tinyConfig(dir);
+    c.estimators = {"cosine"};
+    c.spps = {16};
+    c.referencePath = refPath;
+    const StudyOutcome o = runStudy(c);
+    EXPECT_FALSE(o.referenceRendered);
+    EXPECT_NE(readAll(dir / "report.md").find("given"), std::string::npos);
+    ASSERT_FALSE(o.rows.empty());
+    for (const StudyRow& r : o.rows) EXPECT_NEAR(r.relativeBias, -0.5, 0.05);
+    fs::remove_all(dir);
+}
+
 TEST(Study, MakesEveryPlotAsPngAndSvg) {
     const fs::path dir = freshDir("plots");
     StudyConfig c = tinyConfig(dir);
