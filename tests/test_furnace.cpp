@@ -77,10 +77,12 @@ namespace {
 /// Unbiasedness at one shading point, with the error bar taken from 16 independent furnace runs (their
 /// spread), not from the furnace's own standard error or z: |t| below the 4-sigma tail of Student's t
 /// with 15 degrees of freedom.
-void expectUnbiased(const std::string& estimator, const std::string& envName, double n, double theta, int repeats) {
+void expectUnbiased(const std::string& estimator, const std::string& envName, double n, double theta, int repeats,
+                    const EstimatorOptions& options = {}) {
     constexpr int kRuns = 16;
     FurnaceSetup s;
     s.estimator = estimator;
+    s.options = options;
     s.rhoD = 0.3;
     s.rhoS = 0.6;
     s.n = n;
@@ -99,7 +101,8 @@ void expectUnbiased(const std::string& estimator, const std::string& envName, do
     const auto m = test::meanAndError(estimates);
     const double t = m.stdError > 0 ? (m.mean - exact) / m.stdError : (m.mean == exact ? 0.0 : INFINITY);
     EXPECT_LT(std::abs(t), studentCritical(kRuns - 1))
-        << fmt::format("{} on {}: n {} theta {}: {} +- {} vs exact {} (t = {:.2f})", estimator, envName, n, theta, m.mean, m.stdError, exact, t);
+        << fmt::format("{} (N' = {}, {}) on {}: n {} theta {}: {} +- {} vs exact {} (t = {:.2f})", estimator, options.symmetricN,
+                       symmetricModeName(options.symmetricMode), envName, n, theta, m.mean, m.stdError, exact, t);
 }
 
 }  // namespace
@@ -115,6 +118,17 @@ TEST_P(SymmetricUnbiased, OnEveryEnvironment) {
     for (const std::string& env : environmentNames())
         for (double n : {1.0, 100.0})
             for (double theta : {10.0, 60.0}) expectUnbiased(GetParam(), env, n, theta, 6000);
+}
+
+// --symmetric-n: N' points per piece, in both modes (spread mode spreads N' x P entries over a round).
+TEST_P(SymmetricUnbiased, WithSeveralPointsPerPiece) {
+    for (int nPrime : {2, 3})
+        for (SymmetricMode mode : {SymmetricMode::Branch, SymmetricMode::Spread}) {
+            EstimatorOptions o;
+            o.symmetricN = nPrime;
+            o.symmetricMode = mode;
+            for (const char* env : {"constant", "disk"}) expectUnbiased(GetParam(), env, 10.0, 30.0, 4000, o);
+        }
 }
 
 INSTANTIATE_TEST_SUITE_P(Corrected, SymmetricUnbiased, ::testing::Values("symmetric", "symmetric-shifted"), [](const auto& info) {
