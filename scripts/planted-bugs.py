@@ -3,8 +3,9 @@
 
 Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N]
 
-For every bug below it applies one exact text replacement to a git worktree of HEAD (under
-build/planted/), builds it, runs `ctest`, records which tests failed, and reverts the file. The table it
+For every bug below it applies one exact text replacement to a git worktree of HEAD (beside the
+checkout, as ../<checkout>-planted, so that scenes referring to ../shared resolve), builds it under
+build/planted/, runs `ctest`, records which tests failed, and reverts the file. The table it
 prints is the one in docs/testing.md ("Planted bugs"). A bug whose text is no longer in the source is
 reported as STALE (the code moved; update the replacement), never silently skipped. A bug that no test
 catches is reported as MISSED and makes the script exit 1.
@@ -17,7 +18,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 WORK = os.path.join(ROOT, "build", "planted")
-TREE = os.path.join(WORK, "tree")
+TREE = ROOT.rstrip("/") + "-planted"
 BUILD = os.path.join(WORK, "build")
 
 # name, what it simulates, file, exact old text, new text
