@@ -29,7 +29,7 @@ BUGS = [
      "    return {d.u, d.v, z};\n}\ninline double cosineHemispherePdf",
      "    return {d.u, d.v, p.u < 0.01 ? -z : z};\n}\ninline double cosineHemispherePdf"),
     ("brdf-normalisation", "Phong lobe normalised by (n+1)/(2 pi) instead of (n+2)/(2 pi)", "src/materials/phong.cpp",
-     "m.rhoS * ((m.exponent + 2.0) / kTwoPi", "m.rhoS * ((m.exponent + 1.0) / kTwoPi"),
+     "if (ca > 0) f += m.rhoS * ((m.exponent + 2.0) / kTwoPi", "if (ca > 0) f += m.rhoS * ((m.exponent + 1.0) / kTwoPi"),
     ("nee-no-cosine", "light sampling forgets the cosine at the shading point", "src/render/path_tracer.cpp",
      "(wiLocal.z * w / lightPdf)", "(w / lightPdf)"),
     ("mis-swapped", "light sampling's MIS weight takes the estimator's density as its own", "src/render/path_tracer.cpp",
@@ -111,6 +111,7 @@ def main():
             text = f.read()
         if text.count(old) != 1:
             rows.append((name, what, "STALE: the planted text is not in the source once"))
+            print(f"{name}: {rows[-1][2]}", file=sys.stderr, flush=True)
             continue
         with open(path, "w") as f:
             f.write(text.replace(old, new))
@@ -118,6 +119,7 @@ def main():
             b = build(args.jobs)
             if b.returncode != 0:
                 rows.append((name, what, "does not compile: " + b.stdout[-300:].replace("\n", " ")))
+                print(f"{name}: {rows[-1][2]}", file=sys.stderr, flush=True)
                 continue
             code, failed = ctest(args.jobs, shared)
             if failed:

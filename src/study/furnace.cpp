@@ -22,7 +22,7 @@ FurnaceResult runFurnace(const FurnaceSetup& s, const Environment& env) {
     r.environment = env.name;
     r.rhoD = s.rhoD, r.rhoS = s.rhoS, r.n = s.n, r.thetaDeg = s.thetaDeg;
     r.repeats = s.repeats;
-    r.exact = exactReflected(env, s.rhoD, s.rhoS, s.n, wo);
+    r.exact = std::isnan(s.knownExact) ? exactReflected(env, s.rhoD, s.rhoS, s.n, wo) : s.knownExact;
 
     std::vector<DirectionSample> out;
     const ShadingContext ctx{wo, &m, 0, true};

@@ -7,6 +7,7 @@
 #include "study/environment.h"
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace symphong {
@@ -20,6 +21,9 @@ struct FurnaceSetup {
     std::uint64_t seed = 1;
     int directions = 16;      ///< estimators that return one direction per call are called this many times per estimate
     std::string sampler = std::string(kDefaultSampler);  ///< estimate r is pixel r, call i its sample i
+    /// The exact reflected radiance when the caller already has it (several runs of one cell): skips
+    /// its quadrature. NaN: computed.
+    double knownExact = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct FurnaceResult {
