@@ -12,6 +12,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 using namespace symphong;
 
@@ -276,11 +277,24 @@ TEST(SamplerAgreement, MeanImagesAgreeWithIndependent) {
     EXPECT_GT(t, critical) << "the comparison must detect a 3% bias";
 }
 
+// Every bundled scene (the built-in box, scenes/*.json, the shared OBJ scenes) with every estimator:
+// no NaN, no negative pixel, no discarded sample.
 TEST(Render, NoPixelIsNaNOnAnyBundledScene) {
-    const Scene scene = loadScene("cornell");
-    for (const std::string& name : estimatorNames()) {
-        const RenderResult r = test::renderTiny(scene, name, 16, 4, 3);
-        for (const Color& c : r.image.pixels) ASSERT_TRUE(isFinite(c) && minComponent(c) >= 0) << name;
+    std::vector<std::string> scenes = {"cornell"};
+    for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(SYMPHONG_SOURCE_DIR) / "scenes"))
+        if (e.path().extension() == ".json" && (e.path().filename() != "mcguire-glossy.json" || !test::scenesDir().empty()))
+            scenes.push_back(e.path().string());
+    if (!test::scenesDir().empty())
+        for (const char* rel : {"cornell-box-mcguire/CornellBox-Sphere.obj", "cornell-box-original/cornell_box.obj", "bunny/stanford-bunny.obj"})
+            scenes.push_back(test::scenesDir() + "/" + rel);
+    EXPECT_GE(scenes.size(), 6u);
+    for (const std::string& spec : scenes) {
+        const Scene scene = loadScene(spec);
+        for (const std::string& name : estimatorNames()) {
+            const RenderResult r = test::renderTiny(scene, name, 12, 2, 3);
+            EXPECT_EQ(r.stats.badSamples, 0u) << spec << " " << name;
+            for (const Color& c : r.image.pixels) ASSERT_TRUE(isFinite(c) && minComponent(c) >= 0) << spec << " " << name;
+        }
     }
 }
 
