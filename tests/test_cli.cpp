@@ -24,21 +24,12 @@ CliRun runArgs(std::vector<std::string> args) { return test::runCliArgs(std::mov
 
 class Cli : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("symphong-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    std::string out(const std::string& name) const { return (dir_ / name).string(); }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(dir_ / name) << text;
-        return out(name);
-    }
+    std::string out(const std::string& name) const { return tmp_.file(name); }
+    std::string write(const std::string& name, const std::string& text) const { return tmp_.write(name, text); }
     /// Nothing but the files we put there: no image, no temporary file.
     std::size_t filesInDir() const {
         std::size_t n = 0;
-        for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
+        for ([[maybe_unused]] const auto& e : fs::directory_iterator(tmp_.path)) ++n;
         return n;
     }
     void expectBadInput(const std::vector<std::string>& args, const std::string& expected) {
@@ -52,7 +43,7 @@ protected:
         EXPECT_TRUE(!r.err.empty() && r.err.back() == '\n') << r.err;
         EXPECT_EQ(filesInDir(), before) << "a failed run must not create files: " << r.err;
     }
-    fs::path dir_;
+    test::TempDir tmp_;
 };
 
 }  // namespace
@@ -205,7 +196,7 @@ TEST_F(Cli, FurnaceRejectsBadInput) {
     expectBadInput({"furnace", "--theta", "90"}, "--theta");
     expectBadInput({"furnace", "--rho-d", "1.5"}, "--rho-d");
     expectBadInput({"furnace", "-M", "1"}, "--repeats");
-    fs::create_directories(dir_ / "adir");
+    fs::create_directories(tmp_.path / "adir");
     expectBadInput({"furnace", "-M", "10", "--json", out("adir")}, "adir: is a directory");
     write("afile", "x");
     expectBadInput({"furnace", "-M", "10", "--json", out("afile") + "/sub/f.json"}, "afile/sub: ");

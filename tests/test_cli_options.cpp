@@ -62,13 +62,7 @@ double meanOf(const Image& img) {
 
 class CliOptions : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("symphong-opt-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    std::string out(const std::string& name) const { return (dir_ / name).string(); }
+    std::string out(const std::string& name) const { return tmp_.file(name); }
     /// Renders the built-in Cornell box with `extra` options into `file`; fails the test on error.
     void render(const std::string& file, std::vector<std::string> extra) {
         std::vector<std::string> args = {"render", "--seed", "5", "-W", "24", "-H", "20", "-s", "4", "-o", out(file)};
@@ -76,7 +70,7 @@ protected:
         const CliRun r = run(args);
         ASSERT_EQ(r.code, 0) << r.err;
     }
-    fs::path dir_;
+    test::TempDir tmp_;
 };
 
 }  // namespace
@@ -139,7 +133,7 @@ TEST_F(CliOptions, ExrHalfWritesHalfChannelsAndFloatByDefault) {
 
 TEST_F(CliOptions, DefaultOutputIsOutSlashSceneNamePng) {
     const fs::path before = fs::current_path();
-    fs::current_path(dir_);
+    fs::current_path(tmp_.path);
     const CliRun r = run({"render", "-W", "12", "-H", "10", "-s", "1"});
     fs::current_path(before);
     ASSERT_EQ(r.code, 0) << r.err;

@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 
 using namespace symphong;
 namespace fs = std::filesystem;
@@ -31,19 +30,6 @@ std::string errorOf(const std::string& spec) {
     return "";
 }
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("symphong-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(path / name) << text;
-        return (path / name).string();
-    }
-};
 
 }  // namespace
 
@@ -135,7 +121,7 @@ TEST(ObjScenes, MissingAndUnknownFilesAreInputErrors) {
 }
 
 TEST(ObjScenes, MtlWithNegativeOrNonFiniteValuesIsRejected) {
-    TempDir dir;
+    test::TempDir dir;
     const std::string obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
     dir.write("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\nNs -3\n");
     const std::string path = dir.write("a.obj", obj);
@@ -145,7 +131,7 @@ TEST(ObjScenes, MtlWithNegativeOrNonFiniteValuesIsRejected) {
 }
 
 TEST(JsonScenes, BuiltinWithOverridesAndCamera) {
-    TempDir dir;
+    test::TempDir dir;
     const std::string path = dir.write("glossy.json", R"({
         "builtin": "cornell",
         "name": "glossy100",
@@ -163,7 +149,7 @@ TEST(JsonScenes, BuiltinWithOverridesAndCamera) {
 
 TEST(JsonScenes, ObjRelativeToTheJsonFile) {
     SYMPHONG_REQUIRE_SCENES_DIR();
-    TempDir dir;
+    test::TempDir dir;
     const std::string path = dir.write("bunny.json", R"({"obj": ")" + scene("bunny/stanford-bunny.obj") +
                                                          R"(", "environment": [0.5, 0.6, 0.7], "camera": {"position": [0, 0.1, 0.4], "target": [0, 0.1, 0]}})");
     const Scene s = loadScene(path);
@@ -173,7 +159,7 @@ TEST(JsonScenes, ObjRelativeToTheJsonFile) {
 }
 
 TEST(JsonScenes, ErrorsNameTheProblem) {
-    TempDir dir;
+    test::TempDir dir;
     const std::vector<std::pair<std::string, std::string>> cases = {
         {R"({"builtin": "cornell",})", "malformed JSON"},
         {R"({"builtin": "cornell", "camra": {}})", "unknown key 'camra'"},

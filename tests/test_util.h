@@ -12,6 +12,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,29 @@ inline std::string scenesDir() {
             GTEST_SKIP() << "shared scenes not found beside the repository (set SYMPHONG_SCENES)";       \
         }                                                                                                \
     } while (0)
+
+/// A fresh directory for one test, named after it (suite and test, so binaries run side by side do
+/// not share it), removed when the test ends.
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        path = std::filesystem::temp_directory_path() /
+               ("symphong-test-" + std::string(info->test_suite_name()) + "." + info->name());
+        std::filesystem::remove_all(path);
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    /// The path of `name` inside the directory.
+    std::string file(const std::string& name) const { return (path / name).string(); }
+    /// Writes `text` to `name` inside the directory; returns its path.
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(path / name) << text;
+        return file(name);
+    }
+};
 
 /// A closed UV sphere of radius 1 seen from inside: every triangle faces the centre, emits Le and
 /// reflects diffusely with albedo a. The radiance everywhere inside is Le / (1 - a).
