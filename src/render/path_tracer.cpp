@@ -146,8 +146,13 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     // continues this path.
     const double branches = static_cast<double>(std::max<std::size_t>(1, dirs.size()));
     const bool branching = dirs.size() > 1;
-    RayBundle& bundle = pc.scratch.bundles[static_cast<std::size_t>(depth)];
-    bundle.rays.clear();
+    // Only a branching vertex gathers its rays into a bundle; a single direction continues at once.
+    RayBundle* bundle = nullptr;
+    if (branching) {
+        bundle = &pc.scratch.bundles[static_cast<std::size_t>(depth)];
+        bundle->rays.clear();
+        bundle->dirs.clear();
+    }
     for (std::size_t k = 0; k < dirs.size(); ++k) {
         const DirectionSample& s = dirs[k];
         const Vec3 wi = frame.toWorld(s.wi);
@@ -162,24 +167,24 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
             next /= survive;
         }
         if (!branching) return L + s.weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
-        bundle.rays.push_back({wi, s.weight, next, s.misPdf, survive, nextPath});
+        bundle->dirs.push_back(wi);
+        bundle->rays.push_back({s.weight, next, s.misPdf, survive, nextPath});
     }
-    if (bundle.rays.empty()) return L;
+    if (!bundle || bundle->rays.empty()) return L;
     // A set's surviving rays share this origin: one closest-hit query for all of them (16-wide packets),
     // then each continues as its own path.
-    const std::size_t n = bundle.rays.size();
-    if (bundle.capacity < n) {
-        bundle.found = std::make_unique<bool[]>(n);
-        bundle.capacity = n;
+    const std::size_t n = bundle->rays.size();
+    if (bundle->capacity < n) {
+        bundle->found = std::make_unique<bool[]>(n);
+        bundle->capacity = n;
     }
-    bundle.dirs.resize(n);
-    bundle.hits.resize(n);
-    for (std::size_t i = 0; i < n; ++i) bundle.dirs[i] = bundle.rays[i].wi;
-    accel_.intersectBundle(origin, bundle.dirs.data(), n, epsilon_, bundle.hits.data(), bundle.found.get());
+    bundle->hits.resize(n);
+    accel_.intersectBundle(origin, bundle->dirs.data(), n, epsilon_, bundle->hits.data(), bundle->found.get());
     pc.stats.rays += n;
     for (std::size_t i = 0; i < n; ++i) {
-        const RayBundle::Ray& r = bundle.rays[i];
-        L += r.weight * shade(origin, r.wi, bundle.found[i] ? &bundle.hits[i] : nullptr, depth + 1, r.path, r.misPdf, r.next, pc) / r.survive;
+        const RayBundle::Ray& r = bundle->rays[i];
+        const Hit* hit = bundle->found[i] ? &bundle->hits[i] : nullptr;
+        L += r.weight * shade(origin, bundle->dirs[i], hit, depth + 1, r.path, r.misPdf, r.next, pc) / r.survive;
     }
     return L;
 }

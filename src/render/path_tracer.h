@@ -65,8 +65,7 @@ struct SampleDimensions {
 
 /// The continuing rays of a branching vertex (a set estimator's directions), traced together.
 struct RayBundle {
-    struct Ray {
-        Vec3 wi;              ///< world direction
+    struct Ray {              ///< what ray i continues with; its world direction is dirs[i]
         Color weight;         ///< the estimator's weight
         Color next;           ///< throughput that steers roulette further on
         double misPdf;
@@ -74,10 +73,10 @@ struct RayBundle {
         std::uint64_t path;   ///< the branch's path number (its dimensions)
     };
     std::vector<Ray> rays;
-    std::vector<Vec3> dirs;
+    std::vector<Vec3> dirs;         ///< world directions, contiguous for Accel::intersectBundle
     std::vector<Hit> hits;
-    std::unique_ptr<bool[]> found;
-    std::size_t capacity = 0;
+    std::unique_ptr<bool[]> found;  ///< not std::vector<bool>, which has no bool* to hand to Accel
+    std::size_t capacity = 0;       ///< length of `found`
 };
 
 /// Per-thread working memory of the path tracer.
