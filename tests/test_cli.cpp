@@ -2,6 +2,7 @@
 // problem, exit code 2, and leaves no output file (an existing one is left untouched); good inputs
 // render every shared scene.
 #include "cli/cli.h"
+#include "io/files.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -9,9 +10,7 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 using namespace symphong;
 namespace fs = std::filesystem;
@@ -116,10 +115,7 @@ TEST_F(Cli, AFailedRunLeavesAnExistingOutputUntouched) {
     const std::string target = write("keep.png", "previous contents");
     const CliRun r = runArgs({"render", "--estimator", "nope", "-o", target});
     EXPECT_EQ(r.code, 2);
-    std::ifstream in(target);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    EXPECT_EQ(ss.str(), "previous contents");
+    EXPECT_EQ(readTextFile(target), "previous contents");
 }
 
 TEST_F(Cli, UnwritableOutputIsAnErrorBeforeRendering) {
@@ -164,10 +160,7 @@ TEST_F(Cli, FurnacePrintsATableAndWritesJson) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("symmetric"), std::string::npos);
     EXPECT_NE(r.out.find("var x dirs"), std::string::npos);
-    std::ifstream in(out("f.json"));
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string json = ss.str();
+    const std::string json = readTextFile(out("f.json"));
     std::size_t rows = 0;
     for (std::size_t p = json.find("\"estimator\""); p != std::string::npos; p = json.find("\"estimator\"", p + 1)) ++rows;
     EXPECT_EQ(rows, 2u * 2 * 2 * 2);
@@ -180,8 +173,7 @@ TEST_F(Cli, FurnacePrintsATableAndWritesJson) {
 TEST_F(Cli, FurnaceGridCoversItsCells) {
     const CliRun r = runArgs({"furnace", "-e", "cosine", "--environment", "constant", "--grid", "-M", "4", "--json", out("g.json")});
     ASSERT_EQ(r.code, 0) << r.err;
-    std::ifstream in(out("g.json"));
-    const auto rows = nlohmann::json::parse(in);
+    const auto rows = nlohmann::json::parse(readTextFile(out("g.json")));
     ASSERT_EQ(rows.size(), 20u);
     std::set<std::pair<double, double>> cells;
     for (const auto& row : rows) cells.insert({row["n"].get<double>(), row["theta_deg"].get<double>()});
@@ -217,11 +209,9 @@ TEST_F(Cli, SamplerOptions) {
                                       "-e", "symmetric", "--symmetric-mode", "spread", "-o", file});
             ASSERT_EQ(r.code, 0) << r.err;
             EXPECT_NE(r.out.find(std::string("sampler ") + sampler), std::string::npos) << r.out;
-            std::ifstream in(file, std::ios::binary);
-            std::stringstream bytes;
-            bytes << in.rdbuf();
-            if (std::string(threads) == "1") first = bytes.str();
-            else EXPECT_EQ(first, bytes.str()) << sampler << ": --threads 3 must give the bytes of --threads 1";
+            const std::string bytes = readTextFile(file);
+            if (std::string(threads) == "1") first = bytes;
+            else EXPECT_EQ(first, bytes) << sampler << ": --threads 3 must give the bytes of --threads 1";
         }
     }
     // `stratified` is cosine under the stratified sampler, whatever --sampler says.

@@ -3,6 +3,7 @@
 // path, --max-depth, --no-nee, --paper-refined, --symmetric-n, --seed; the progress bar on a terminal
 // (a pseudo-terminal) and not elsewhere; every scene in scenes/ renders.
 #include "cli/cli.h"
+#include "io/files.h"
 #include "io/image.h"
 #include "test_util.h"
 
@@ -17,8 +18,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 using namespace symphong;
 namespace fs = std::filesystem;
@@ -45,13 +44,6 @@ Png readPng(const std::string& path) {
     out.width = pi.width;
     out.height = pi.height;
     return out;
-}
-
-std::string bytesOf(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 double meanOf(const Image& img) {
@@ -92,7 +84,7 @@ TEST_F(CliOptions, OutputHasTheRequestedDimensions) {
 TEST_F(CliOptions, ExposureScalesThePngAndNotTheExr) {
     render("plain.exr", {});
     render("exposed.exr", {"--exposure", "4"});
-    EXPECT_EQ(bytesOf(out("plain.exr")), bytesOf(out("exposed.exr"))) << "--exposure must not touch EXR output";
+    EXPECT_EQ(readTextFile(out("plain.exr")), readTextFile(out("exposed.exr"))) << "--exposure must not touch EXR output";
     render("exposed.png", {"--exposure", "4"});
     render("plain.png", {});
     const Image linear = readExr(out("plain.exr"));
@@ -186,7 +178,7 @@ TEST_F(CliOptions, NoNeeChangesHowTheImageIsMade) {
 // the weights) no pixel gets brighter and the glossy block gets darker.
 TEST_F(CliOptions, PaperRefinedChangesThePapersLobeWeight) {
     // A low exponent: at n = 100 both normalisations are 2 pi/(n+1) to round-off.
-    std::ofstream(out("low-n.json")) << R"({"builtin": "cornell", "materials": {"tallBlock": {"ns": 2}}})";
+    tmp_.write("low-n.json", R"({"builtin": "cornell", "materials": {"tallBlock": {"ns": 2}}})");
     render("p.exr", {out("low-n.json"), "-e", "paper", "--max-depth", "2"});
     render("r.exr", {out("low-n.json"), "-e", "paper", "--max-depth", "2", "--paper-refined"});
     const Image p = readExr(out("p.exr")), r = readExr(out("r.exr"));
@@ -203,7 +195,7 @@ TEST_F(CliOptions, PaperRefinedChangesThePapersLobeWeight) {
 TEST_F(CliOptions, SymmetricNReachesTheEstimator) {
     render("n1.exr", {"-e", "symmetric", "--max-depth", "1", "--no-nee"});
     render("n2.exr", {"-e", "symmetric", "--max-depth", "1", "--no-nee", "--symmetric-n", "2"});
-    EXPECT_NE(bytesOf(out("n1.exr")), bytesOf(out("n2.exr")));
+    EXPECT_NE(readTextFile(out("n1.exr")), readTextFile(out("n2.exr")));
 }
 
 TEST_F(CliOptions, DifferentSeedsGiveDifferentImages) {

@@ -1,5 +1,6 @@
 // Image output: sRGB encoding, PNG and EXR round trips, and atomic replacement (a write that fails
 // half way leaves the target untouched).
+#include "io/files.h"
 #include "io/image.h"
 #include "io/input_error.h"
 
@@ -8,8 +9,6 @@
 
 #include <csignal>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -127,10 +126,7 @@ TEST(AtomicWrite, AFailedImageWriteLeavesTheTargetUntouched) {
         waitpid(pid, &status, 0);
         ASSERT_TRUE(WIFEXITED(status)) << ext;
         EXPECT_EQ(WEXITSTATUS(status), 3) << ext << ": the write past the size limit must fail with an InputError";
-        std::ifstream in(target, std::ios::binary);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        EXPECT_EQ(ss.str(), "previous contents") << ext << ": a failed write must leave the target untouched";
+        EXPECT_EQ(readTextFile(target.string()), "previous contents") << ext << ": a failed write must leave the target untouched";
         std::size_t files = 0;
         for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
         EXPECT_EQ(files, 1u) << ext << ": the temporary file must be removed";

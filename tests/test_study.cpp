@@ -1,6 +1,7 @@
 // `symphong study`: metrics on synthetic images with known error, the bias flag on a tiny scene
 // (fires for `paper`, not for `cosine`), the CSV/JSON schema, the plots, the reference cache and Ctrl-C.
 #include "cli/cli.h"
+#include "io/files.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "study/metrics.h"
@@ -12,8 +13,6 @@
 
 #include <csignal>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <unistd.h>
 
@@ -28,12 +27,7 @@ Image constantImage(int w, int h, double v) {
     return img;
 }
 
-std::string readAll(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+std::string readAll(const fs::path& p) { return readTextFile(p.string()); }
 
 fs::path freshDir(const std::string& name) {
     // One directory per process: CTest runs the tests of this file as parallel processes.
