@@ -36,7 +36,7 @@ Batch makeBatch(std::size_t points) {
     PhongMaterial m;
     Rng rng(5, 6);
     const IndependentSampler sampler(1, 7);
-    std::vector<DirectionSample> out;
+    DirectionList out;
     for (std::size_t i = 0; i < points; ++i) {
         b.origins.push_back(Vec3(50 + 450 * rng.uniform(), 1e-2, 50 + 450 * rng.uniform()));
         out.clear();

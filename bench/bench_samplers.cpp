@@ -29,7 +29,7 @@ void estimatorLoop(benchmark::State& state, const std::string& name, const Phong
     const auto est = makeEstimator(name);
     const ShadingContext ctx{normalize(Vec3(0.3, 0.2, 0.9)), &m, 0, true};
     const IndependentSampler sampler(16, 3);
-    std::vector<DirectionSample> out;
+    DirectionList out;
     std::size_t directions = 0;
     std::uint64_t pixel = 0;
     for (auto _ : state) {

@@ -73,7 +73,7 @@ TEST_P(EstimatorFurnace, MatchesTheDirectionalAlbedo) {
     const auto estimator = makeEstimator(c.estimator, options);
     constexpr std::uint32_t kGroup = 16;
     test::Streams streams(1234, c.sampler, kGroup);
-    std::vector<DirectionSample> out;
+    DirectionList out;
     // Estimators that return a whole set of directions per call need fewer calls for the same precision.
     const int kGroups = estimator->returnsSets() ? 2000 : 6000;
     for (const FurnaceCase& fc : furnaceCases()) {
@@ -115,7 +115,7 @@ TEST_P(EstimatorFurnace, WeightsAreBrdfCosineOverTheReportedDensity) {
     m.rhoD = Color(0.3);
     m.rhoS = Color(0.5);
     m.exponent = 20;
-    std::vector<DirectionSample> out;
+    DirectionList out;
     for (bool branch : {false, true})
         for (int k = 0; k < 2000; ++k) {
             const Vec3 wo = sampleUniformHemisphere(rng.uniform2());
@@ -159,7 +159,7 @@ TEST(PaperEstimator, OneDirectionHasTheSameMeanAsTheWholeSet) {
     m.exponent = 20;
     const Vec3 wo = sphericalDirection(std::cos(0.5), 0.3);
     test::Streams streams(31);
-    std::vector<DirectionSample> out;
+    DirectionList out;
     for (bool branch : {true, false}) {
         std::vector<double> v(branch ? 50000 : 2000000);
         for (double& x : v) {
@@ -201,7 +201,7 @@ TEST(EstimatorDensities, OneDirectionFollowsTheReportedMisPdf) {
             const ShadingContext ctx{sphericalDirection(std::cos(deg * kPi / 180), 0.4), &m, 1, false};
             test::Streams streams(++seed);
             std::vector<Vec3> dirs;
-            std::vector<DirectionSample> out;
+            DirectionList out;
             for (int k = 0; k < kDraws; ++k) {
                 out.clear();
                 SampleStream samples = streams.next();

@@ -330,7 +330,7 @@ namespace {
 test::MeanStd paperUnderConstantL(const PhongMaterial& m, const Vec3& wo, int nPrime, int repeats, bool refined = false) {
     const PaperEstimator est(nPrime, refined);
     const IndependentSampler sampler(1, 12 + static_cast<std::uint64_t>(nPrime));
-    std::vector<DirectionSample> out;
+    DirectionList out;
     std::vector<double> v(repeats);
     std::uint64_t pixel = 0;
     for (double& x : v) {

@@ -10,7 +10,7 @@ namespace symphong {
 namespace {
 
 /// Appends wi with weight f cos / pdf (one direction per call, so K = 1), skipping zero-weight ones.
-void pushWeighted(const ShadingContext& ctx, const Vec3& wi, double pdf, std::vector<DirectionSample>& out) {
+void pushWeighted(const ShadingContext& ctx, const Vec3& wi, double pdf, DirectionList& out) {
     if (wi.z <= 0 || pdf <= 0) return;
     const Color f = evalPhong(*ctx.material, ctx.wo, wi);
     if (isBlack(f)) return;
@@ -19,13 +19,13 @@ void pushWeighted(const ShadingContext& ctx, const Vec3& wi, double pdf, std::ve
 
 }  // namespace
 
-void UniformEstimator::sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+void UniformEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const Vec3 wi = sampleUniformHemisphere(samples.get2D());
     pushWeighted(ctx, wi, uniformHemispherePdf(wi), out);
 }
 double UniformEstimator::misPdf(const ShadingContext&, const Vec3& wi) const { return uniformHemispherePdf(wi); }
 
-void CosineEstimator::sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+void CosineEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const Vec3 wi = sampleCosineHemisphere(samples.get2D());
     pushWeighted(ctx, wi, cosineHemispherePdf(wi), out);
 }
@@ -56,7 +56,7 @@ double PhongLobeEstimator::directionPdf(const ShadingContext& ctx, const Vec3& w
     return pdf;
 }
 
-void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const Vec3 wi = sampleDirection(ctx, samples.get2D());
     pushWeighted(ctx, wi, directionPdf(ctx, wi), out);
 }

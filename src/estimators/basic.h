@@ -11,7 +11,7 @@ namespace symphong {
 class UniformEstimator final : public Estimator {
 public:
     std::string_view name() const override { return "uniform"; }
-    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
+    void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
 };
 
@@ -21,7 +21,7 @@ class CosineEstimator final : public Estimator {
 public:
     explicit CosineEstimator(bool stratified = false) : stratified_(stratified) {}
     std::string_view name() const override { return stratified_ ? "stratified" : "cosine"; }
-    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
+    void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
     std::string_view requiredSampler() const override { return stratified_ ? "stratified" : ""; }
 
@@ -35,7 +35,7 @@ private:
 class PhongLobeEstimator final : public Estimator {
 public:
     std::string_view name() const override { return "phong"; }
-    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
+    void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
 
     /// Probability of choosing the diffuse lobe for a material.

@@ -8,6 +8,7 @@
 #include "materials/phong.h"
 #include "math/vec3.h"
 #include "sampling/sampler.h"
+#include "util/cache_line.h"
 
 #include <cstdint>
 #include <memory>
@@ -38,6 +39,10 @@ struct DirectionSample {
     double misPdf;  ///< K p(wi): the density of the call's direction set, as multiple importance sampling needs it
 };
 
+/// The directions of a call: a buffer alone on its cache lines, since the path tracer's threads each
+/// write their own on every sample (util/cache_line.h).
+using DirectionList = CacheLineVector<DirectionSample>;
+
 class Estimator {
 public:
     virtual ~Estimator() = default;
@@ -50,7 +55,7 @@ public:
     /// ctx.branch false, at most one direction. Every random decision draws from `samples`, starting at
     /// the dimension it is positioned at; with ctx.branch false an estimator uses at most five
     /// dimensions, with ctx.branch true as many as it needs (the caller reserves a block).
-    virtual void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const = 0;
+    virtual void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const = 0;
 
     /// The misPdf that sample() would attach to direction wi at this point (0 where it never samples).
     virtual double misPdf(const ShadingContext& ctx, const Vec3& wi) const = 0;

@@ -72,7 +72,7 @@ std::uint32_t PaperEstimator::spreadSetSize(const ShadingContext& ctx) const {
     return mode_ == SymmetricMode::Spread ? entries(*ctx.material) : 1;
 }
 
-void PaperEstimator::allDirections(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+void PaperEstimator::allDirections(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const PaperTerms terms(ctx, nPrime_, refined_);
     const bool specular = ctx.material->hasSpecular();
     for (int j = 0; j <= nPrime_; ++j) {  // Eq. (4) sums j = 0..N' as printed: N'+1 points
@@ -87,7 +87,7 @@ void PaperEstimator::allDirections(const ShadingContext& ctx, SampleStream& samp
     }
 }
 
-void PaperEstimator::sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+void PaperEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     if (ctx.branch && mode_ == SymmetricMode::Branch) {
         allDirections(ctx, samples, out);
         return;
@@ -141,7 +141,7 @@ std::uint32_t SymmetricEstimator::spreadSetSize(const ShadingContext& ctx) const
 // Branch mode, first hit: the whole set, N' points x (16 + 8) directions, balance heuristic over both
 // techniques. Shared work: the 8 copies of a piece share d_D (diffuse pieces: the same cos theta) or
 // d_S (lobe triangles: the same folded face direction), so each is computed once per point.
-void SymmetricEstimator::sampleSet(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+void SymmetricEstimator::sampleSet(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const PhongMaterial& m = *ctx.material;
     const bool specular = m.hasSpecular();
     const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
@@ -186,7 +186,7 @@ void SymmetricEstimator::sampleSet(const ShadingContext& ctx, SampleStream& samp
     }
 }
 
-void SymmetricEstimator::sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const {
+void SymmetricEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     if (ctx.branch && mode_ == SymmetricMode::Branch) {
         sampleSet(ctx, samples, out);
         return;

@@ -24,7 +24,7 @@ class PaperEstimator final : public Estimator {
 public:
     PaperEstimator(int nPrime, bool refined, SymmetricMode mode = SymmetricMode::Branch) : nPrime_(nPrime), refined_(refined), mode_(mode) {}
     std::string_view name() const override { return "paper"; }
-    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
+    void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext&, const Vec3&) const override { return 0.0; }
     bool combinesWithLightSampling() const override { return false; }
     bool returnsSets() const override { return mode_ == SymmetricMode::Branch; }
@@ -35,7 +35,7 @@ public:
     static double lobeNormalisation(double n, bool refined);
     /// Every direction of one full estimate (all weights, including negative specular ones below the
     /// horizon), as printed; sample() keeps those a render can use.
-    void allDirections(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const;
+    void allDirections(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const;
     /// Number of entries of one whole estimate: 16 (N'+1) + 8 N' (no specular entries without a lobe).
     std::uint32_t entries(const PhongMaterial& m) const;
 
@@ -69,7 +69,7 @@ public:
     SymmetricEstimator(int nPrime, bool shifted, SymmetricMode mode = SymmetricMode::Branch)
         : nPrime_(nPrime), shifted_(shifted), mode_(mode) {}
     std::string_view name() const override { return shifted_ ? "symmetric-shifted" : "symmetric"; }
-    void sample(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const override;
+    void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
     bool returnsSets() const override { return mode_ == SymmetricMode::Branch; }
     std::uint32_t spreadSetSize(const ShadingContext& ctx) const override;
@@ -84,7 +84,7 @@ public:
     Point2 copyPoint(Point2 p, int k, separation::PieceKind kind) const;
 
 private:
-    void sampleSet(const ShadingContext& ctx, SampleStream& samples, std::vector<DirectionSample>& out) const;
+    void sampleSet(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const;
 
     int nPrime_;
     bool shifted_;

@@ -135,7 +135,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
         L += sampleEmitter(p, ng, frame, sc, samples.get2D(), pc.stats);
     }
 
-    std::vector<DirectionSample>& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
+    DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
     samples.setDimension(depth == 0 ? SampleDimensions::kFirstHitEstimator : vertexDim + SampleDimensions::kEstimator);
     estimator_.sample(sc, samples, dirs);
@@ -175,7 +175,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     // then each continues as its own path.
     const std::size_t n = bundle->rays.size();
     if (bundle->capacity < n) {
-        bundle->found = std::make_unique<bool[]>(n);
+        bundle->found = makeCacheLineArray<bool>(n);
         bundle->capacity = n;
     }
     bundle->hits.resize(n);

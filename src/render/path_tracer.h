@@ -9,6 +9,7 @@
 #include "math/frame.h"
 #include "sampling/distribution1d.h"
 #include "scene/scene.h"
+#include "util/cache_line.h"
 
 #include <cstdint>
 #include <memory>
@@ -72,17 +73,18 @@ struct RayBundle {
         double survive;       ///< Russian roulette survival probability (already passed)
         std::uint64_t path;   ///< the branch's path number (its dimensions)
     };
-    std::vector<Ray> rays;
-    std::vector<Vec3> dirs;         ///< world directions, contiguous for Accel::intersectBundle
-    std::vector<Hit> hits;
-    std::unique_ptr<bool[]> found;  ///< not std::vector<bool>, which has no bool* to hand to Accel
+    // Written by one thread on every branching vertex: each buffer alone on its cache lines.
+    CacheLineVector<Ray> rays;
+    CacheLineVector<Vec3> dirs;     ///< world directions, contiguous for Accel::intersectBundle
+    CacheLineVector<Hit> hits;
+    CacheLineArray<bool> found;     ///< not std::vector<bool>, which has no bool* to hand to Accel
     std::size_t capacity = 0;       ///< length of `found`
 };
 
 /// Per-thread working memory of the path tracer.
 struct PathScratch {
-    std::vector<std::vector<DirectionSample>> directions;  ///< one buffer per depth
-    std::vector<RayBundle> bundles;                        ///< one per depth
+    CacheLineVector<DirectionList> directions;  ///< one buffer per depth (each alone on its cache lines: util/cache_line.h)
+    CacheLineVector<RayBundle> bundles;         ///< one per depth
 };
 
 class PathTracer {

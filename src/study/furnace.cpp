@@ -24,7 +24,7 @@ FurnaceResult runFurnace(const FurnaceSetup& s, const Environment& env) {
     r.repeats = s.repeats;
     r.exact = std::isnan(s.knownExact) ? exactReflected(env, s.rhoD, s.rhoS, s.n, wo) : s.knownExact;
 
-    std::vector<DirectionSample> out;
+    DirectionList out;
     const ShadingContext ctx{wo, &m, 0, true};
     const int calls = estimator->returnsSets() ? 1
                       : estimator->spreadSetSize(ctx) > 1 ? static_cast<int>(estimator->spreadSetSize(ctx))
