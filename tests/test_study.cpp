@@ -240,6 +240,16 @@ TEST_F(TinyStudy, WritesTheReportHeatmapsAndRenders) {
 TEST_F(TinyStudy, TheReferenceIsCachedAndReusedOnlyWhenTheSettingsMatch) {
     ASSERT_TRUE(outcome_->referenceRendered) << "the suite's first study renders its reference";
     const std::string exr = readAll(*dir_ / "reference.exr");
+    // The cached reference gives the same numbers, bit for bit, as the freshly rendered one did.
+    const StudyOutcome again = runStudy(tinyConfig(*dir_));
+    EXPECT_FALSE(again.referenceRendered);
+    ASSERT_EQ(again.rows.size(), outcome_->rows.size());
+    for (std::size_t i = 0; i < again.rows.size(); ++i) {
+        EXPECT_EQ(again.rows[i].mseRaw, outcome_->rows[i].mseRaw) << i;
+        EXPECT_EQ(again.rows[i].mse, outcome_->rows[i].mse) << i;
+        EXPECT_EQ(again.rows[i].relativeBias, outcome_->rows[i].relativeBias) << i;
+        EXPECT_EQ(again.rows[i].groupBiasZ, outcome_->rows[i].groupBiasZ) << i;
+    }
     StudyConfig c = tinyConfig(*dir_);
     c.estimators = {"cosine"};
     c.spps = {4};

@@ -465,8 +465,12 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
             return outcome;
         }
         outcome.referenceRendered = true;
+        // Used as the cache stores it (32-bit float), so a study gives the same numbers, bit for bit,
+        // whether its reference was just rendered or read back from reference.exr.
         reference = r.image;
-        refMean = meanLuminance(r.image, &r.variance);
+        for (Color& p : reference.pixels)
+            for (int ch = 0; ch < 3; ++ch) p[ch] = static_cast<float>(p[ch]);
+        refMean = meanLuminance(reference, &r.variance);
         for (const Color& v : r.variance.pixels) refNoise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
         writeExr(reference, refExr.string(), false);
         writeFile(refJson.string(), nlohmann::json{{"key", refKey}, {"mean_luminance", refMean.mean}, {"mean_std_error", refMean.stdError},
