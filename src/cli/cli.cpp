@@ -13,7 +13,6 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -27,7 +26,6 @@ namespace symphong {
 namespace {
 
 constexpr int kBadInput = 2;
-constexpr long kMaxPixels = 64L * 1024 * 1024;
 
 struct RenderOptions {
     std::string scene = "cornell";
@@ -110,8 +108,8 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
 }
 
 int runRender(const RenderOptions& o) {
-    if (static_cast<long>(o.width) * o.height > kMaxPixels)
-        throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxPixels));
+    if (static_cast<long>(o.width) * o.height > kMaxImagePixels)
+        throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
     if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
     const auto estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
     Scene scene = loadScene(o.scene);
@@ -213,22 +211,10 @@ std::vector<std::string> splitList(const std::string& text, const std::vector<st
     return out;
 }
 
-nlohmann::json toJson(const FurnaceResult& r) {
-    return {{"estimator", r.estimator}, {"sampler", r.sampler}, {"environment", r.environment}, {"rho_d", r.rhoD}, {"rho_s", r.rhoS},
-            {"n", r.n}, {"theta_deg", r.thetaDeg}, {"repeats", r.repeats}, {"estimate", r.estimate},
-            {"std_error", r.stdError}, {"exact", r.exact}, {"relative_bias", r.relativeBias},
-            {"z", std::isfinite(r.z) ? nlohmann::json(r.z) : nlohmann::json(nullptr)}, {"variance", r.variance},
-            {"directions_per_estimate", r.directionsPerEstimate}, {"variance_times_directions", r.varianceTimesDirections},
-            {"seconds_per_estimate", r.secondsPerEstimate},
-            {"efficiency", std::isfinite(r.efficiency) ? nlohmann::json(r.efficiency) : nlohmann::json(nullptr)}};
-}
-
 int runFurnaceCommand(const FurnaceOptions& o) {
     const auto estimators = splitList(o.estimators, estimatorNames(), "--estimator");
     const auto environments = splitList(o.environments, environmentNames(), "--environment");
     for (const auto& e : estimators) estimatorOrInputError(e, o.estimatorOptions);
-    const std::vector<double> exponents = o.grid ? std::vector<double>{1, 10, 100, 1000, 10000} : o.exponents;
-    const std::vector<double> thetas = o.grid ? std::vector<double>{0, 30, 60, 85} : o.thetas;
     if (!o.json.empty()) {
         try {
             checkCanCreate(o.json);  // fails now, not after the run, if it cannot be written
@@ -236,37 +222,24 @@ int runFurnaceCommand(const FurnaceOptions& o) {
             throw InputError(fmt::format("--json {}", e.what()));
         }
     }
+    FurnaceTable table;
+    table.estimators = estimators, table.environments = environments;
+    table.exponents = o.grid ? furnaceGridExponents() : o.exponents;
+    table.thetas = o.grid ? furnaceGridThetas() : o.thetas;
+    table.rhoD = o.rhoD, table.rhoS = o.rhoS, table.phiDeg = o.phi;
+    table.repeats = o.repeats, table.seed = o.seed, table.directions = o.directions;
+    table.sampler = o.sampler, table.options = o.estimatorOptions, table.environment = o.env;
     fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  sampler {}  (one-direction estimators: {} calls per estimate)\n", o.rhoD,
                o.rhoS, o.repeats, o.seed, o.sampler, o.directions);
     fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6} {:>11} {:>10} {:>11} {:>9} {:>8} {:>10} {:>10} {:>9} {:>10}\n", "estimator",
                "environmt", "n", "theta", "dirs", "estimate", "std.err", "exact", "rel.bias", "z", "var(1 est)", "var x dirs",
                "us/est", "efficiency");
-    nlohmann::json rows = nlohmann::json::array();
-    std::uint64_t cell = 0;  // every row gets its own random stream, so rows are independent
-    for (const auto& envName : environments) {
-        Environment env;
-        try {
-            env = makeEnvironment(envName, o.env);
-        } catch (const std::invalid_argument& e) {
-            throw InputError(e.what());
-        }
-        for (double n : exponents)
-            for (double theta : thetas)
-                for (const auto& est : estimators) {
-                    FurnaceSetup setup;
-                    setup.estimator = est;
-                    setup.options = o.estimatorOptions;
-                    setup.rhoD = o.rhoD, setup.rhoS = o.rhoS, setup.n = n, setup.thetaDeg = theta, setup.phiDeg = o.phi;
-                    setup.repeats = o.repeats, setup.seed = mixSeed(o.seed, cell++), setup.directions = o.directions;
-                    setup.sampler = o.sampler;
-                    const FurnaceResult r = runFurnace(setup, env);
-                    fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6.1f} {:>11.6f} {:>10.2e} {:>11.6f} {:>+8.2f}% {:>8.2f} {:>10.3e} {:>10.3e} {:>9.3f} {:>10.3e}\n",
-                               est, envName, n, theta, r.directionsPerEstimate, r.estimate, r.stdError, r.exact, 100 * r.relativeBias,
-                               r.z, r.variance, r.varianceTimesDirections, 1e6 * r.secondsPerEstimate, r.efficiency);
-                    rows.push_back(toJson(r));
-                }
-    }
-    if (!o.json.empty()) writeFile(o.json, rows.dump(2) + "\n");
+    const auto rows = runFurnaceTable(table, [](const FurnaceResult& r) {
+        fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6.1f} {:>11.6f} {:>10.2e} {:>11.6f} {:>+8.2f}% {:>8.2f} {:>10.3e} {:>10.3e} {:>9.3f} {:>10.3e}\n",
+                   r.estimator, r.environment, r.n, r.thetaDeg, r.directionsPerEstimate, r.estimate, r.stdError, r.exact,
+                   100 * r.relativeBias, r.z, r.variance, r.varianceTimesDirections, 1e6 * r.secondsPerEstimate, r.efficiency);
+    });
+    if (!o.json.empty()) writeFile(o.json, furnaceJson(rows));
     return 0;
 }
 

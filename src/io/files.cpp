@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 std::string readTextFile(const std::string& path) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw InputError(fmt::format("{}: no such file", path));
+    if (!std::filesystem::exists(path, ec)) throw MissingFileError(fmt::format("{}: no such file", path));
     if (std::filesystem::is_directory(path, ec)) throw InputError(fmt::format("{}: is a directory, not a file", path));
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));

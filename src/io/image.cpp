@@ -93,7 +93,7 @@ void writeImage(const Image& img, const std::string& path, double exposure, bool
 }
 
 Image readExr(const std::string& path) {
-    if (!fs::exists(path)) throw InputError(fmt::format("{}: no such file", path));
+    if (!fs::exists(path)) throw MissingFileError(fmt::format("{}: no such file", path));
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();

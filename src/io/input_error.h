@@ -16,4 +16,12 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// Bad input of one kind: a file that the user named does not exist. An InputError like the others
+/// (exit code 2); callers that tell the two apart (the Python module raises FileNotFoundError for it,
+/// ValueError for the others) catch it first.
+class MissingFileError : public InputError {
+public:
+    using InputError::InputError;
+};
+
 }  // namespace symphong

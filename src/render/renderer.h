@@ -14,6 +14,10 @@
 
 namespace symphong {
 
+/// The most pixels an image may have (its three double buffers then take 4.5 GiB); the command line
+/// and the Python module refuse larger sizes as bad input.
+inline constexpr long kMaxImagePixels = 64L * 1024 * 1024;
+
 struct RenderSettings {
     int width = 512, height = 512;
     std::uint32_t spp = 64;

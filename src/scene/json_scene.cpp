@@ -86,6 +86,8 @@ Scene loadJsonScene(const std::string& path) {
         if (obj.is_relative()) obj = dir / obj;
         try {
             scene = loadObj(obj.string());
+        } catch (const MissingFileError& e) {
+            throw MissingFileError(fmt::format("{}: \"obj\": {}", path, e.what()));
         } catch (const InputError& e) {
             throw InputError(fmt::format("{}: \"obj\": {}", path, e.what()));
         }

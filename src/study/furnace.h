@@ -6,9 +6,12 @@
 #include "estimators/estimator.h"
 #include "study/environment.h"
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace symphong {
 
@@ -46,5 +49,36 @@ struct FurnaceResult {
 /// environment's radiance there, whatever side of the surface it is on (so the paper's below-horizon
 /// specular directions count with their negative weights, as printed).
 FurnaceResult runFurnace(const FurnaceSetup& setup, const Environment& env);
+
+/// A table of furnace runs, as `symphong furnace` makes it: every environment x exponent x view angle x
+/// estimator, in that order. Cell k of the table draws from seed mixSeed(seed, k), so cells are
+/// independent and a table is reproduced exactly by the same settings, whoever runs it (the command
+/// line, the Python module).
+struct FurnaceTable {
+    std::vector<std::string> estimators = {"symmetric"};
+    std::vector<std::string> environments = {"constant"};
+    std::vector<double> exponents = {10};
+    std::vector<double> thetas = {30};
+    double rhoD = 0.3, rhoS = 0.6, phiDeg = 0;
+    int repeats = 10000;
+    std::uint64_t seed = 1;
+    int directions = 16;
+    std::string sampler = std::string(kDefaultSampler);
+    EstimatorOptions options;
+    EnvironmentParams environment;
+};
+
+/// The exponents and view angles of `symphong furnace --grid`.
+const std::vector<double>& furnaceGridExponents();
+const std::vector<double>& furnaceGridThetas();
+
+/// Runs the table's cells in order, calling `onRow` after each. Throws InputError for an unknown
+/// estimator, environment or sampler (before running anything). When `cancel` becomes true the table
+/// stops after the current cell and the rows so far are returned.
+std::vector<FurnaceResult> runFurnaceTable(const FurnaceTable& table, const std::function<void(const FurnaceResult&)>& onRow = {},
+                                           const std::atomic<bool>* cancel = nullptr);
+
+/// The rows as the JSON array that `symphong furnace --json` writes (non-finite z and efficiency as null).
+std::string furnaceJson(const std::vector<FurnaceResult>& rows);
 
 }  // namespace symphong
