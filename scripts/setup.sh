@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets symphong up on Debian 12: installs the Debian packages it needs (only those missing, with
-# apt-get, as root or through sudo; python3-matplotlib draws the plots of `symphong study`) and builds
-# the Release preset into build/release.
+# apt-get, as root or through sudo; python3-matplotlib draws the plots of `symphong study`; pybind11,
+# python3-dev, NumPy and pytest build and test the Python module) and builds the Release preset into
+# build/release (the program build/release/symphong, the module in build/release/python).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,6 +12,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libfmt-dev libpcg-cpp-dev
   libgtest-dev libbenchmark-dev
   python3-matplotlib
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do

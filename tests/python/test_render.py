@@ -1,0 +1,134 @@
+"""render(): shapes, dtype, bit-identity with the command line's EXR, stats, variance."""
+import numpy as np
+import pytest
+
+
+def test_shape_and_dtype(sym):
+    img, stats = sym.render(sym.load_scene("cornell"), spp=4, width=64, height=48)
+    assert img.shape == (48, 64, 3)
+    assert img.dtype == np.float32
+    assert img.flags.c_contiguous and img.flags.writeable
+    assert np.isfinite(img).all() and (img >= 0).all()
+    assert img.mean() > 0.01
+
+
+def test_stats(sym):
+    _, stats = sym.render("cornell", spp=3, width=20, height=10, seed=9, estimator="cosine", sampler="independent")
+    assert stats["samples"] == 20 * 10 * 3
+    assert stats["rays"] >= stats["samples"]
+    assert stats["bad_samples"] == 0
+    assert stats["seconds"] > 0
+    assert stats["mrays_per_second"] == pytest.approx(stats["rays"] / stats["seconds"] / 1e6)
+    assert stats["samples_per_second"] == pytest.approx(stats["samples"] / stats["seconds"])
+    assert (stats["estimator"], stats["sampler"], stats["spp"], stats["width"], stats["height"], stats["seed"]) == (
+        "cosine", "independent", 3, 20, 10, 9)
+
+
+@pytest.mark.parametrize("estimator,sampler,extra", [
+    ("phong", "independent", []),
+    ("phong", "sobol", []),
+    ("symmetric", "sobol", ["--symmetric-mode", "spread", "--symmetric-n", "2"]),
+    ("cosine", "independent", ["--no-nee", "--max-depth", "3"]),
+])
+def test_bit_identical_to_cli_exr(sym, cli, tmp_path, estimator, sampler, extra):
+    out = tmp_path / "cli.exr"
+    cli("render", "cornell", "-e", estimator, "--sampler", sampler, "--spp", 5, "-W", 37, "-H", 23, "--seed", 11, "-o", out, *extra)
+    ref = sym.read_image(str(out))
+    kwargs = dict(estimator=estimator, sampler=sampler, spp=5, width=37, height=23, seed=11)
+    if "--symmetric-mode" in extra:
+        kwargs.update(symmetric_mode="spread", symmetric_n=2)
+    if "--no-nee" in extra:
+        kwargs.update(nee=False, max_depth=3)
+    for threads in (1, 2, 0):
+        img, _ = sym.render("cornell", threads=threads, **kwargs)
+        assert img.tobytes() == ref.tobytes(), f"threads={threads}"
+
+
+def test_obj_scene_matches_cli(sym, cli, tmp_path, shared_scenes):
+    obj = shared_scenes / "cornell-box-mcguire" / "CornellBox-Glossy.obj"
+    out = tmp_path / "glossy.exr"
+    cli("render", obj, "--spp", 2, "-W", 24, "-H", 24, "-o", out)
+    img, _ = sym.render(sym.load_scene(str(obj)), spp=2, width=24, height=24)
+    assert img.tobytes() == sym.read_image(str(out)).tobytes()
+
+
+def test_seeds_differ_and_repeat(sym):
+    scene = sym.load_scene("cornell")
+    a, _ = sym.render(scene, spp=2, width=16, height=16, seed=1)
+    b, _ = sym.render(scene, spp=2, width=16, height=16, seed=2)
+    c, _ = sym.render(scene, spp=2, width=16, height=16, seed=1)
+    assert not np.array_equal(a, b)
+    assert np.array_equal(a, c)
+
+
+def test_variance_matches_spread_between_seeds(sym):
+    """The returned per-pixel variance of the mean agrees with the spread of two independent renders:
+    E[(a - b)^2 / 2] = Var(mean). Pixel means of both compared within 4 standard errors."""
+    scene = sym.load_scene("cornell")
+    kw = dict(spp=8, width=48, height=48, estimator="cosine", sampler="independent")
+    a, _, va = sym.render(scene, seed=1, variance=True, **kw)
+    b, _, vb = sym.render(scene, seed=2, variance=True, **kw)
+    assert va.shape == a.shape and va.dtype == np.float32 and (va >= 0).all()
+    half_sq = ((a.astype(np.float64) - b) ** 2 / 2).ravel()
+    predicted = ((va.astype(np.float64) + vb) / 2).ravel()
+    diff = half_sq - predicted
+    se = diff.std(ddof=1) / np.sqrt(diff.size)
+    assert abs(diff.mean()) < 4 * se, (half_sq.mean(), predicted.mean(), se)
+    assert predicted.mean() > 0
+
+
+def test_scene_is_reused_and_not_consumed(sym):
+    scene = sym.load_scene("cornell")
+    for _ in range(3):
+        img, _ = sym.render(scene, spp=1, width=8, height=8)
+    assert img.shape == (8, 8, 3)
+    assert scene.triangle_count == 32
+
+
+def test_scene_attributes(sym, shared_scenes):
+    scene = sym.load_scene("cornell")
+    assert scene.name == "cornell" and scene.spec == "cornell"
+    assert scene.triangle_count == 32
+    names = [m["name"] for m in scene.materials]
+    assert "light" in names and "red" in names
+    light = scene.materials[names.index("light")]
+    assert max(light["emission"]) > 0 and scene.has_emitter
+    assert set(scene.camera) == {"position", "target", "up", "fov_y"}
+    lo, hi = scene.bounds
+    assert all(l < h for l, h in zip(lo, hi))
+    assert "32 triangles" in repr(scene)
+    bunny = sym.Scene(str(shared_scenes / "bunny" / "stanford-bunny.obj"))
+    assert bunny.triangle_count > 1000
+    assert not bunny.has_emitter and max(bunny.environment) > 0
+    assert any("environment" in w for w in bunny.warnings), bunny.warnings
+
+
+def test_names(sym):
+    assert "symmetric" in sym.estimators() and "phong" in sym.estimators()
+    assert "sobol" in sym.samplers() and "independent" in sym.samplers()
+    assert "constant" in sym.environments()
+
+
+def test_help_documents_every_estimator(sym):
+    doc = sym.render.__doc__
+    for name in sym.estimators():
+        assert name in doc
+    for name in sym.samplers():
+        assert name in doc
+    for f in (sym.load_scene, sym.furnace, sym.study, sym.write_image, sym.read_image, sym.Scene):
+        assert f.__doc__ and len(f.__doc__) > 80, f
+
+
+def test_write_image_roundtrip(sym, tmp_path):
+    rng = np.random.default_rng(3)
+    img = rng.random((5, 7, 3)).astype(np.float32)
+    sym.write_image(str(tmp_path / "x.exr"), img)
+    assert np.array_equal(sym.read_image(str(tmp_path / "x.exr")), img)
+    grey = rng.random((4, 6))
+    sym.write_image(str(tmp_path / "g.exr"), grey)
+    back = sym.read_image(str(tmp_path / "g.exr"))
+    assert np.array_equal(back[..., 1], grey.astype(np.float32))
+    sym.write_image(str(tmp_path / "x.png"), img, exposure=2.0)
+    assert (tmp_path / "x.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    sym.write_image(str(tmp_path / "h.exr"), img, exr_half=True)
+    assert np.allclose(sym.read_image(str(tmp_path / "h.exr")), img, rtol=1e-3)
