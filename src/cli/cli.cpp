@@ -1,6 +1,8 @@
 #include "cli/cli.h"
 
 #include "accel/accel.h"
+#include "distrib/mpi_job.h"
+#include "distrib/render.h"
 #include "estimators/estimator.h"
 #include "io/files.h"
 #include "io/image.h"
@@ -107,15 +109,28 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
     addEstimatorOptions(r, o.estimatorOptions);
 }
 
-int runRender(const RenderOptions& o) {
-    if (static_cast<long>(o.width) * o.height > kMaxImagePixels)
-        throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
-    if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
-    const auto estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
-    Scene scene = loadScene(o.scene);
-    for (const std::string& w : scene.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
-    const std::string output = o.output.empty() ? fmt::format("out/{}.png", scene.name) : o.output;
-    checkWritable(output);
+int runRender(const RenderOptions& o, const MpiJob& job) {
+    // Every rank checks the input; a failure on any rank stops all of them, reported once by rank 0.
+    std::string error;
+    std::unique_ptr<Estimator> estimator;
+    Scene scene;
+    std::string output;
+    try {
+        if (static_cast<long>(o.width) * o.height > kMaxImagePixels)
+            throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
+        if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
+        estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
+        scene = loadScene(o.scene);
+        output = o.output.empty() ? fmt::format("out/{}.png", scene.name) : o.output;
+        if (job.root()) checkWritable(output);
+    } catch (const InputError& e) {
+        if (!job.active()) throw;
+        error = e.what();
+    }
+    error = job.firstError(error);
+    if (!error.empty()) throw InputError(error);
+    if (job.root())
+        for (const std::string& w : scene.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
 
     RenderSettings settings;
     settings.width = o.width;
@@ -131,18 +146,20 @@ int runRender(const RenderOptions& o) {
     std::atomic<std::uint64_t> done{0};
     const std::uint64_t total = static_cast<std::uint64_t>(o.width) * o.height * o.spp;
     RenderResult result;
+    DistributedStats distributed;
     {
-        ProgressBar bar(done, total, "samples", stderrIsTerminal());
-        result = render(scene, accel, *estimator, settings, &done);
+        ProgressBar bar(done, total, "samples", job.root() && stderrIsTerminal());
+        result = renderDistributed(job, scene, accel, *estimator, settings, &done, &distributed);
         bar.finish();
     }
+    if (!job.root()) return 0;
     if (result.stats.badSamples > 0)
         fmt::print(stderr, "symphong: warning: {} non-finite path contributions were discarded\n", result.stats.badSamples);
     writeImage(result.image, output, o.exposure, o.exrHalf);
     const double secs = std::max(result.stats.seconds, 1e-9);
-    fmt::print("{}: {}x{}, {} spp, estimator {}, sampler {}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name, o.width,
-               o.height, o.spp, estimator->name(), result.sampler, result.stats.seconds, result.stats.rays / secs / 1e6,
-               ProgressBar::formatCount(result.stats.samples / secs), output);
+    fmt::print("{}: {}x{}, {} spp, estimator {}, sampler {}{}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name, o.width,
+               o.height, o.spp, estimator->name(), result.sampler, job.size() > 1 ? fmt::format(", {} ranks (tiles {}, gather {:.3f} s)", job.size(), fmt::join(distributed.tilesPerRank, "/"), distributed.gatherSeconds) : "",
+               result.stats.seconds, result.stats.rays / secs / 1e6, ProgressBar::formatCount(result.stats.samples / secs), output);
     return 0;
 }
 
@@ -323,6 +340,12 @@ int runStudyCommand(StudyOptions& o) {
 }  // namespace
 
 int runCli(int argc, const char* const* argv) {
+    const MpiJob single(nullptr, nullptr);
+    return runCli(argc, argv, single);
+}
+
+int runCli(int argc, const char* const* argv, const MpiJob& job) {
+    if (!job.root()) std::freopen("/dev/null", "w", stdout);  // help and summaries come from rank 0
     CLI::App app{"symphong: a Phong path tracer built to compare Monte Carlo estimators, symmetric sampling among them."};
     app.require_subcommand(1);
     RenderOptions renderOptions;
@@ -343,18 +366,25 @@ int runCli(int argc, const char* const* argv) {
         for (std::size_t p = what.find('\n'); p != std::string::npos; p = what.find('\n', p)) what.replace(p, 1, "; ");
         std::string command = "symphong";
         for (const CLI::App* sub : app.get_subcommands()) command += " " + sub->get_name();
-        fmt::print(stderr, "symphong: error: {} (see '{} --help')\n", what, command);
+        if (job.root()) fmt::print(stderr, "symphong: error: {} (see '{} --help')\n", what, command);
         return kBadInput;
     }
     try {
-        if (app.got_subcommand("render")) return runRender(renderOptions);
+        if (app.got_subcommand("render")) return runRender(renderOptions, job);
+        // furnace and study are not shared among ranks: rank 0 runs them alone, the others stop here.
+        if (!job.root()) return 0;
+        if (job.size() > 1)
+            fmt::print(stderr, "symphong: warning: '{}' does not share its work among MPI ranks; rank 0 runs it alone\n",
+                       app.got_subcommand("furnace") ? "furnace" : "study");
         if (app.got_subcommand("furnace")) return runFurnaceCommand(furnaceOptions);
         if (app.got_subcommand("study")) return runStudyCommand(studyOptions);
     } catch (const InputError& e) {
-        fmt::print(stderr, "symphong: error: {}\n", e.what());
+        // Errors that reach here are the same on every rank (or were agreed on): reported once.
+        if (job.root()) fmt::print(stderr, "symphong: error: {}\n", e.what());
         return kBadInput;
     } catch (const std::exception& e) {
-        fmt::print(stderr, "symphong: internal error: {}\n", e.what());
+        fmt::print(stderr, "symphong: internal error{}: {}\n", job.size() > 1 ? fmt::format(" on rank {}", job.rank()) : "", e.what());
+        if (job.size() > 1) job.abort(1);  // the other ranks may be waiting for this one
         return 1;
     }
     return 0;

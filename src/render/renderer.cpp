@@ -3,6 +3,7 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <chrono>
 #include <cmath>
@@ -10,6 +11,8 @@
 #include <optional>
 
 namespace symphong {
+
+int tileCount(int width, int height) { return ((width + kRenderTile - 1) / kRenderTile) * ((height + kRenderTile - 1) / kRenderTile); }
 
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir) {
     const Vec3 forward = normalize(cam.target - cam.position);
@@ -33,7 +36,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
     result.sampler = effectiveSampler(estimator, settings.sampler);
     const auto sampler = makeSampler(result.sampler, settings.spp, settings.seed);
 
-    constexpr int kTile = 16;
+    constexpr int kTile = kRenderTile;
     const int tilesX = (settings.width + kTile - 1) / kTile, tilesY = (settings.height + kTile - 1) / kTile;
     std::mutex statsMutex;
     const std::uint32_t spp = settings.spp;
@@ -84,7 +87,17 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
         allow.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(settings.threads));
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     arena.execute([&] {
-        tbb::parallel_for(0, tilesX * tilesY, [&](int tile) { renderTile(tile); });
+        if (!settings.tiles) {
+            tbb::parallel_for(0, tilesX * tilesY, [&](int tile) { renderTile(tile); });
+            return;
+        }
+        // Tiles from a source: one loop per worker thread, each taking tiles until the source is dry.
+        tbb::task_group workers;
+        for (int w = 0; w < arena.max_concurrency(); ++w)
+            workers.run([&] {
+                for (int tile; settings.tiles->next(tile);) renderTile(tile);
+            });
+        workers.wait();
     });
     result.stats.samples = static_cast<std::uint64_t>(settings.width) * settings.height * spp;
     result.cancelled = settings.cancel && settings.cancel->load();

@@ -18,6 +18,21 @@ namespace symphong {
 /// and the Python module refuse larger sizes as bad input.
 inline constexpr long kMaxImagePixels = 64L * 1024 * 1024;
 
+/// Images are rendered in square tiles of this many pixels, numbered row by row from the top left.
+inline constexpr int kRenderTile = 16;
+
+/// Number of tiles of a width x height image.
+int tileCount(int width, int height);
+
+/// Where a render's tiles come from when a render is shared with other processes (distrib/): every
+/// worker thread calls next() until it returns false, so next() must be thread-safe. A tile's pixels
+/// depend only on its number, never on who renders it or when.
+class TileSource {
+public:
+    virtual ~TileSource() = default;
+    virtual bool next(int& tile) = 0;
+};
+
 struct RenderSettings {
     int width = 512, height = 512;
     std::uint32_t spp = 64;
@@ -30,6 +45,9 @@ struct RenderSettings {
     /// Called on the worker thread after each finished tile (cancelled tiles are not finished); tests
     /// use it to cancel after a known number of tiles.
     std::function<void()> onTileDone;
+    /// Null: every tile, shared among this process's threads. Otherwise only the tiles it gives out;
+    /// the other pixels of the result stay zero.
+    TileSource* tiles = nullptr;
 };
 
 struct RenderStats {

@@ -1,0 +1,60 @@
+#include "distrib/mpi_job.h"
+
+#include <mpi.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <vector>
+
+namespace symphong {
+
+bool MpiJob::launchedByMpi() {
+    for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+        if (std::getenv(name)) return true;
+    return false;
+}
+
+MpiJob::MpiJob(int* argc, char*** argv) {
+    if (!launchedByMpi()) return;
+    int provided = 0;
+    if (MPI_Init_thread(argc, argv, MPI_THREAD_MULTIPLE, &provided) != MPI_SUCCESS) throw std::runtime_error("MPI_Init_thread failed");
+    active_ = true;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    if (provided < MPI_THREAD_MULTIPLE && size_ > 1) {
+        if (rank_ == 0) std::fputs("symphong: error: this MPI library does not support MPI_THREAD_MULTIPLE\n", stderr);
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+}
+
+MpiJob::~MpiJob() {
+    if (active_) MPI_Finalize();
+}
+
+std::string MpiJob::firstError(const std::string& localError) const {
+    if (!active_ || size_ == 1) return localError;
+    const int mine = localError.empty() ? size_ : rank_;
+    int first = size_;
+    MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == size_) return {};
+    int length = rank_ == first ? static_cast<int>(localError.size()) : 0;
+    MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+    std::string message = rank_ == first ? localError : std::string(static_cast<std::size_t>(length), ' ');
+    MPI_Bcast(message.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+    return first == 0 ? message : "rank " + std::to_string(first) + ": " + message;
+}
+
+bool MpiJob::allTrue(bool value) const {
+    if (!active_ || size_ == 1) return value;
+    int mine = value ? 1 : 0, all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    return all == 1;
+}
+
+void MpiJob::abort(int code) const {
+    if (active_) MPI_Abort(MPI_COMM_WORLD, code);
+    std::exit(code);
+}
+
+}  // namespace symphong

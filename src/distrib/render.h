@@ -1,0 +1,28 @@
+// distrib/render.h — one render shared by the ranks of an MPI job. Rank 0 hands out tiles as ranks ask
+// for them (a dispatcher thread answers requests from a shared counter that its own threads also draw
+// from), so a slow rank takes fewer tiles instead of holding the others back; every rank renders its
+// tiles with its oneTBB threads; at the end each rank sends its tiles' pixels to rank 0. A tile's pixels
+// depend only on its number (the samplers' per-pixel, per-sample streams), so the image is bit for bit
+// the single-process one at any number of ranks and threads.
+#pragma once
+
+#include "distrib/mpi_job.h"
+#include "render/renderer.h"
+
+namespace symphong {
+
+struct DistributedStats {
+    double gatherSeconds = 0;  ///< rank 0: receiving and placing the other ranks' tiles
+    std::vector<int> tilesPerRank;  ///< rank 0: how many tiles each rank rendered
+};
+
+/// Collective over the job's ranks (a plain render() in a job of one rank). On rank 0 the result is the
+/// whole image, its variance and the whole job's statistics (rays summed over ranks; seconds from the
+/// start to the last pixel gathered); on the other ranks it holds only their own tiles. `progress`
+/// (rank 0) counts the samples of every rank's finished tiles. Cancelling (settings.cancel) on rank 0
+/// stops handing out tiles; the result is then marked cancelled on every rank.
+RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                               const RenderSettings& settings, std::atomic<std::uint64_t>* progress = nullptr,
+                               DistributedStats* distributed = nullptr);
+
+}  // namespace symphong
