@@ -164,19 +164,11 @@ int runRender(const RenderOptions& o, const MpiJob& job) {
 }
 
 struct FurnaceOptions {
+    FurnaceTable table;  ///< the options bind to its fields; lists and --grid fill the rest
     std::string estimators = "all";
     std::string environments = "constant";
-    std::vector<double> exponents = {10};
-    std::vector<double> thetas = {30};
-    double rhoD = 0.3, rhoS = 0.6, phi = 0;
-    int repeats = 10000;
-    std::uint64_t seed = 1;
-    int directions = 16;
-    std::string sampler = std::string(kDefaultSampler);
     bool grid = false;
     std::string json;
-    EstimatorOptions estimatorOptions;
-    EnvironmentParams env;
 };
 
 void addFurnaceCommand(CLI::App& app, FurnaceOptions& o) {
@@ -194,22 +186,22 @@ void addFurnaceCommand(CLI::App& app, FurnaceOptions& o) {
         "halfspace. --grid runs n in {1,10,100,1000,10000} x theta in {0,30,60,85}.\n");
     f->add_option("--estimator,-e", o.estimators, "estimators, comma-separated, or all")->capture_default_str();
     f->add_option("--environment", o.environments, "environments, comma-separated, or all")->capture_default_str();
-    f->add_option("--rho-d", o.rhoD, "diffuse albedo")->check(CLI::Range(0.0, 1.0))->capture_default_str();
-    f->add_option("--rho-s", o.rhoS, "specular albedo")->check(CLI::Range(0.0, 1.0))->capture_default_str();
-    f->add_option("--n", o.exponents, "Phong exponents")->delimiter(',')->check(CLI::Range(0.0, 1e6))->capture_default_str();
-    f->add_option("--theta", o.thetas, "view angles from the normal, degrees")->delimiter(',')->check(CLI::Range(0.0, 89.9))->capture_default_str();
-    f->add_option("--phi", o.phi, "view azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
-    f->add_option("--repeats,-M", o.repeats, "independent estimates")->check(CLI::Range(2, 100000000))->capture_default_str();
-    f->add_option("--seed", o.seed, "random seed")->capture_default_str();
-    addSamplerOption(f, o.sampler);
-    f->add_option("--directions", o.directions, "calls per estimate for one-direction estimators")->check(CLI::Range(1, 1000000))->capture_default_str();
-    f->add_option("--disk-theta", o.env.diskTheta, "disk light: polar angle, degrees")->check(CLI::Range(0.0, 180.0))->capture_default_str();
-    f->add_option("--disk-phi", o.env.diskPhi, "disk light: azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
-    f->add_option("--disk-radius", o.env.diskRadius, "disk light: angular radius, degrees")->check(CLI::Range(0.01, 89.9))->capture_default_str();
-    f->add_option("--band", o.env.bandDegrees, "horizon band height, degrees")->check(CLI::Range(0.01, 90.0))->capture_default_str();
+    f->add_option("--rho-d", o.table.rhoD, "diffuse albedo")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    f->add_option("--rho-s", o.table.rhoS, "specular albedo")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    f->add_option("--n", o.table.exponents, "Phong exponents")->delimiter(',')->check(CLI::Range(0.0, 1e6))->capture_default_str();
+    f->add_option("--theta", o.table.thetas, "view angles from the normal, degrees")->delimiter(',')->check(CLI::Range(0.0, 89.9))->capture_default_str();
+    f->add_option("--phi", o.table.phiDeg, "view azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
+    f->add_option("--repeats,-M", o.table.repeats, "independent estimates")->check(CLI::Range(2, 100000000))->capture_default_str();
+    f->add_option("--seed", o.table.seed, "random seed")->capture_default_str();
+    addSamplerOption(f, o.table.sampler);
+    f->add_option("--directions", o.table.directions, "calls per estimate for one-direction estimators")->check(CLI::Range(1, 1000000))->capture_default_str();
+    f->add_option("--disk-theta", o.table.environment.diskTheta, "disk light: polar angle, degrees")->check(CLI::Range(0.0, 180.0))->capture_default_str();
+    f->add_option("--disk-phi", o.table.environment.diskPhi, "disk light: azimuth, degrees")->check(CLI::Range(-360.0, 360.0))->capture_default_str();
+    f->add_option("--disk-radius", o.table.environment.diskRadius, "disk light: angular radius, degrees")->check(CLI::Range(0.01, 89.9))->capture_default_str();
+    f->add_option("--band", o.table.environment.bandDegrees, "horizon band height, degrees")->check(CLI::Range(0.01, 90.0))->capture_default_str();
     f->add_flag("--grid", o.grid, "n in {1,10,100,1000,10000} x theta in {0,30,60,85}");
     f->add_option("--json", o.json, "also write the results as JSON to this file");
-    addEstimatorOptions(f, o.estimatorOptions);
+    addEstimatorOptions(f, o.table.options);
 }
 
 std::vector<std::string> splitList(const std::string& text, const std::vector<std::string>& all, const char* what) {
@@ -229,9 +221,10 @@ std::vector<std::string> splitList(const std::string& text, const std::vector<st
 }
 
 int runFurnaceCommand(const FurnaceOptions& o) {
-    const auto estimators = splitList(o.estimators, estimatorNames(), "--estimator");
-    const auto environments = splitList(o.environments, environmentNames(), "--environment");
-    for (const auto& e : estimators) estimatorOrInputError(e, o.estimatorOptions);
+    FurnaceTable table = o.table;
+    table.estimators = splitList(o.estimators, estimatorNames(), "--estimator");
+    table.environments = splitList(o.environments, environmentNames(), "--environment");
+    for (const auto& e : table.estimators) estimatorOrInputError(e, table.options);
     if (!o.json.empty()) {
         try {
             checkCanCreate(o.json);  // fails now, not after the run, if it cannot be written
@@ -239,15 +232,9 @@ int runFurnaceCommand(const FurnaceOptions& o) {
             throw InputError(fmt::format("--json {}", e.what()));
         }
     }
-    FurnaceTable table;
-    table.estimators = estimators, table.environments = environments;
-    table.exponents = o.grid ? furnaceGridExponents() : o.exponents;
-    table.thetas = o.grid ? furnaceGridThetas() : o.thetas;
-    table.rhoD = o.rhoD, table.rhoS = o.rhoS, table.phiDeg = o.phi;
-    table.repeats = o.repeats, table.seed = o.seed, table.directions = o.directions;
-    table.sampler = o.sampler, table.options = o.estimatorOptions, table.environment = o.env;
-    fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  sampler {}  (one-direction estimators: {} calls per estimate)\n", o.rhoD,
-               o.rhoS, o.repeats, o.seed, o.sampler, o.directions);
+    if (o.grid) table.exponents = furnaceGridExponents(), table.thetas = furnaceGridThetas();
+    fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  sampler {}  (one-direction estimators: {} calls per estimate)\n", table.rhoD,
+               table.rhoS, table.repeats, table.seed, table.sampler, table.directions);
     fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6} {:>11} {:>10} {:>11} {:>9} {:>8} {:>10} {:>10} {:>9} {:>10}\n", "estimator",
                "environmt", "n", "theta", "dirs", "estimate", "std.err", "exact", "rel.bias", "z", "var(1 est)", "var x dirs",
                "us/est", "efficiency");

@@ -45,13 +45,6 @@ std::string MpiJob::firstError(const std::string& localError) const {
     return first == 0 ? message : "rank " + std::to_string(first) + ": " + message;
 }
 
-bool MpiJob::allTrue(bool value) const {
-    if (!active_ || size_ == 1) return value;
-    int mine = value ? 1 : 0, all = 0;
-    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-    return all == 1;
-}
-
 void MpiJob::abort(int code) const {
     if (active_) MPI_Abort(MPI_COMM_WORLD, code);
     std::exit(code);

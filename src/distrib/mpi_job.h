@@ -31,9 +31,6 @@ public:
     /// them saw (a file missing on one node) and report it once, from rank 0.
     std::string firstError(const std::string& localError) const;
 
-    /// Collective: whether every rank passes true.
-    bool allTrue(bool value) const;
-
     /// Ends every rank of the job at once (after an error that the others cannot learn of).
     [[noreturn]] void abort(int code) const;
 

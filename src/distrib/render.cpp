@@ -77,12 +77,6 @@ private:
     std::vector<int> rendered_;
 };
 
-void tileRect(int tile, int width, int height, int& x0, int& y0, int& x1, int& y1) {
-    const int tilesX = (width + kRenderTile - 1) / kRenderTile;
-    x0 = (tile % tilesX) * kRenderTile, y0 = (tile / tilesX) * kRenderTile;
-    x1 = std::min(width, x0 + kRenderTile), y1 = std::min(height, y0 + kRenderTile);
-}
-
 std::uint64_t tileSamples(int tile, const RenderSettings& s) {
     int x0, y0, x1, y1;
     tileRect(tile, s.width, s.height, x0, y0, x1, y1);

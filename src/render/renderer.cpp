@@ -14,6 +14,12 @@ namespace symphong {
 
 int tileCount(int width, int height) { return ((width + kRenderTile - 1) / kRenderTile) * ((height + kRenderTile - 1) / kRenderTile); }
 
+void tileRect(int tile, int width, int height, int& x0, int& y0, int& x1, int& y1) {
+    const int tilesX = (width + kRenderTile - 1) / kRenderTile;
+    x0 = (tile % tilesX) * kRenderTile, y0 = (tile / tilesX) * kRenderTile;
+    x1 = std::min(width, x0 + kRenderTile), y1 = std::min(height, y0 + kRenderTile);
+}
+
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir) {
     const Vec3 forward = normalize(cam.target - cam.position);
     const Vec3 right = normalize(cross(forward, cam.up));
@@ -36,18 +42,18 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
     result.sampler = effectiveSampler(estimator, settings.sampler);
     const auto sampler = makeSampler(result.sampler, settings.spp, settings.seed);
 
-    constexpr int kTile = kRenderTile;
-    const int tilesX = (settings.width + kTile - 1) / kTile, tilesY = (settings.height + kTile - 1) / kTile;
+    const int tiles = tileCount(settings.width, settings.height);
     std::mutex statsMutex;
     const std::uint32_t spp = settings.spp;
 
     const auto renderTile = [&](int tile) {
         if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) return;
-        const int tx = tile % tilesX, ty = tile / tilesX;
+        int x0, y0, x1, y1;
+        tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
         TraceStats stats;
         PathScratch scratch;
-        for (int y = ty * kTile; y < std::min(settings.height, (ty + 1) * kTile); ++y) {
-            for (int x = tx * kTile; x < std::min(settings.width, (tx + 1) * kTile); ++x) {
+        for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; ++x) {
                 const std::uint64_t pixel = static_cast<std::uint64_t>(y) * settings.width + x;
                 Color sum(0.0), sumSq(0.0);
                 for (std::uint32_t i = 0; i < spp; ++i) {
@@ -70,7 +76,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
                     result.variance.at(x, y) = var / spp;
                 }
             }
-            if (progress) progress->fetch_add(static_cast<std::uint64_t>(std::min(settings.width, (tx + 1) * kTile) - tx * kTile) * spp,
+            if (progress) progress->fetch_add(static_cast<std::uint64_t>(x1 - x0) * spp,
                                               std::memory_order_relaxed);
         }
         {
@@ -88,7 +94,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         if (!settings.tiles) {
-            tbb::parallel_for(0, tilesX * tilesY, [&](int tile) { renderTile(tile); });
+            tbb::parallel_for(0, tiles, [&](int tile) { renderTile(tile); });
             return;
         }
         // Tiles from a source: one loop per worker thread, each taking tiles until the source is dry.

@@ -24,6 +24,9 @@ inline constexpr int kRenderTile = 16;
 /// Number of tiles of a width x height image.
 int tileCount(int width, int height);
 
+/// Pixels [x0, x1) x [y0, y1) of tile `tile` (edge tiles are cut at the image's border).
+void tileRect(int tile, int width, int height, int& x0, int& y0, int& x1, int& y1);
+
 /// Where a render's tiles come from when a render is shared with other processes (distrib/): every
 /// worker thread calls next() until it returns false, so next() must be thread-safe. A tile's pixels
 /// depend only on its number, never on who renders it or when.

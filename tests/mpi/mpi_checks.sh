@@ -16,6 +16,17 @@ trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 render=(render cornell --spp 3 -W 70 -H 45 --seed 5 -t 1)
 
+# expect_bad_input MESSAGE COMMAND...: exit code 2, MESSAGE as the only line on stderr, no $work/x.png.
+expect_bad_input() {
+  local message=$1 rc=0
+  shift
+  "$@" >"$work/out" 2>"$work/err" || rc=$?
+  [ "$rc" -eq 2 ] || fail "exit code $rc, expected 2"
+  [ "$(grep -c . "$work/err")" -eq 1 ] || fail "expected one line on stderr, got: $(cat "$work/err")"
+  grep -qxF "$message" "$work/err" || fail "message: $(cat "$work/err")"
+  [ ! -e "$work/x.png" ] || fail "an output file was created"
+}
+
 case $check in
 identical)
   np=$1 sampler=$2
@@ -28,25 +39,12 @@ identical)
   [ ! -s "$work/err" ] || fail "unexpected stderr: $(cat "$work/err")"
   ;;
 missing)
-  set +e
-  "${launch[@]}" -np 2 "$bin" render "$work/missing.obj" -o "$work/x.png" >"$work/out" 2>"$work/err"
-  rc=$?
-  set -e
-  [ "$rc" -eq 2 ] || fail "exit code $rc, expected 2"
-  [ "$(grep -c . "$work/err")" -eq 1 ] || fail "expected one line on stderr, got: $(cat "$work/err")"
-  grep -qx "symphong: error: $work/missing.obj: no such file" "$work/err" || fail "message: $(cat "$work/err")"
-  [ ! -e "$work/x.png" ] || fail "an output file was created"
+  expect_bad_input "symphong: error: $work/missing.obj: no such file" \
+    "${launch[@]}" -np 2 "$bin" render "$work/missing.obj" -o "$work/x.png"
   ;;
 one-rank-fails)
-  set +e
-  "${launch[@]}" -np 1 "$bin" "${render[@]}" -o "$work/x.png" : -np 1 "$bin" render "$work/gone.obj" -o "$work/x.png" \
-    >"$work/out" 2>"$work/err"
-  rc=$?
-  set -e
-  [ "$rc" -eq 2 ] || fail "exit code $rc, expected 2"
-  [ "$(grep -c . "$work/err")" -eq 1 ] || fail "expected one line on stderr, got: $(cat "$work/err")"
-  grep -qx "symphong: error: rank 1: $work/gone.obj: no such file" "$work/err" || fail "message: $(cat "$work/err")"
-  [ ! -e "$work/x.png" ] || fail "an output file was created"
+  expect_bad_input "symphong: error: rank 1: $work/gone.obj: no such file" \
+    "${launch[@]}" -np 1 "$bin" "${render[@]}" -o "$work/x.png" : -np 1 "$bin" render "$work/gone.obj" -o "$work/x.png"
   ;;
 study)
   study=(study cornell --estimators cosine,phong --spp 1,2 -R 2 -W 16 -H 16 --reference-spp 16 --no-plots -t 1)
