@@ -3,6 +3,7 @@
 #include "accel/accel.h"
 #include "distrib/mpi_job.h"
 #include "distrib/render.h"
+#include "distrib/study.h"
 #include "estimators/estimator.h"
 #include "io/files.h"
 #include "io/image.h"
@@ -22,6 +23,8 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+
+#include <unistd.h>
 
 namespace symphong {
 
@@ -86,7 +89,9 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
         "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), or a .json scene file.\n"
         "PNG output is 8-bit sRGB: linear radiance is multiplied by --exposure, clamped to [0,1], then sRGB-encoded.\n"
         "EXR output is linear RGB, 32-bit float (16-bit half with --exr-half).\n"
-        "The same --seed gives the same image, bit for bit, at any --threads, with every sampler.\n\nEstimators:\n" +
+        "The same --seed gives the same image, bit for bit, at any --threads, with every sampler.\n"
+        "Under 'mpirun -np N' the N processes share the image (the same bytes) and rank 0 writes it (docs/cluster.md).\n\n"
+        "Estimators:\n" +
         estimatorHelp() + "\n\nSamplers (every random decision of a render draws from the sampler):\n" + samplerHelp());
     r->add_option("scene", o.scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
     r->add_option("--estimator,-e", o.estimator, "reflected-radiance estimator: " + fmt::format("{}", fmt::join(estimatorNames(), ", ")))
@@ -108,6 +113,61 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
     r->add_flag("--no-nee", o.noNee, "no light sampling: emitters are found only by the estimator's directions");
     addEstimatorOptions(r, o.estimatorOptions);
 }
+
+// Interruptions. Ctrl-C stops a study cleanly (SIGINT): rows finished so far are kept. Under mpirun,
+// Ctrl-C reaches the ranks as SIGTERM (mpirun turns its SIGINT into SIGTERM to every rank, then SIGKILL
+// a second later), and so does the end of a job one of whose ranks died. Rank 0 then says so at once:
+// a render ends (its image is only written after the last tile), a study stops as after Ctrl-C; the
+// other ranks ignore the signal and follow rank 0 (or are killed by mpirun).
+std::atomic<bool> gInterrupted{false};
+std::atomic<bool> gRendering{false};
+constexpr char kLauncherStopped[] = "symphong: the MPI launcher is stopping the job (Ctrl-C, or a rank ended)\n";
+
+extern "C" void onInterrupt(int) { gInterrupted.store(true); }
+
+extern "C" void onLauncherStopStudy(int) {
+    if (!gInterrupted.exchange(true)) [[maybe_unused]] const auto n = ::write(STDERR_FILENO, kLauncherStopped, sizeof kLauncherStopped - 1);
+}
+
+extern "C" void onLauncherStopRender(int) {
+    if (!gRendering.load()) return;  // writing the image: let it finish
+    constexpr char tail[] = "symphong: no image was written\n";
+    [[maybe_unused]] const auto a = ::write(STDERR_FILENO, kLauncherStopped, sizeof kLauncherStopped - 1);
+    [[maybe_unused]] const auto b = ::write(STDERR_FILENO, tail, sizeof tail - 1);
+    ::_exit(143);
+}
+
+enum class LauncherStop { EndRender, StopStudy };
+
+/// Installs the interruption handlers for the scope of a render or a study, and restores the previous
+/// ones. Without MPI: a study handles SIGINT and SIGTERM (a batch system's stop) alike; a render keeps
+/// the default (the image is written atomically at the end, so nothing is left behind).
+class LauncherStopGuard {
+public:
+    LauncherStopGuard(const MpiJob& job, LauncherStop what) {
+        const bool shared = job.size() > 1;
+        gInterrupted = false;
+        if (what == LauncherStop::EndRender) {
+            if (!shared || !job.root()) return;
+            gRendering = true;
+            install(SIGTERM, onLauncherStopRender);
+        } else if (!job.root()) {
+            install(SIGINT, SIG_IGN), install(SIGTERM, SIG_IGN);
+        } else {
+            install(SIGINT, onInterrupt), install(SIGTERM, shared ? onLauncherStopStudy : onInterrupt);
+        }
+    }
+    ~LauncherStopGuard() {
+        gRendering = false;
+        for (const auto& [signal, handler] : previous_) std::signal(signal, handler);
+    }
+    LauncherStopGuard(const LauncherStopGuard&) = delete;
+    LauncherStopGuard& operator=(const LauncherStopGuard&) = delete;
+
+private:
+    void install(int signal, void (*handler)(int)) { previous_.emplace_back(signal, std::signal(signal, handler)); }
+    std::vector<std::pair<int, void (*)(int)>> previous_;
+};
 
 int runRender(const RenderOptions& o, const MpiJob& job) {
     // Every rank checks the input; a failure on any rank stops all of them, reported once by rank 0.
@@ -148,6 +208,7 @@ int runRender(const RenderOptions& o, const MpiJob& job) {
     RenderResult result;
     DistributedStats distributed;
     {
+        const LauncherStopGuard guard(job, LauncherStop::EndRender);
         ProgressBar bar(done, total, "samples", job.root() && stderrIsTerminal());
         result = renderDistributed(job, scene, accel, *estimator, settings, &done, &distributed);
         bar.finish();
@@ -265,7 +326,9 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
         "writes into DIR: results.csv and results.json (one row per estimator x spp x repeat), convergence plots against\n"
         "samples and time with the 1/sqrt(N) slope, an efficiency bar chart (PNG and SVG), per-pixel error heat maps,\n"
         "crops of the renders, and report.md with a conclusion computed from the numbers. Ctrl-C stops cleanly and keeps\n"
-        "the finished rows. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.\n");
+        "the finished rows. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.\n"
+        "Under 'mpirun -np N' the N processes share each render; rank 0 writes the same rows (times aside) and the report\n"
+        "(docs/cluster.md).\n");
     s->add_option("scene", o.config.scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
     s->add_option("--estimators,-e", o.estimators, "estimators, comma-separated, or all")->capture_default_str();
     s->add_option("--samplers", o.samplers, "samplers, comma-separated, or all: every estimator runs under each")->capture_default_str();
@@ -292,26 +355,19 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
     addEstimatorOptions(s, o.config.options, false);
 }
 
-std::atomic<bool> gInterrupted{false};
-extern "C" void onInterrupt(int) { gInterrupted.store(true); }
-
-int runStudyCommand(StudyOptions& o) {
+int runStudyCommand(StudyOptions& o, const MpiJob& job) {
     o.config.estimators = splitList(o.estimators, estimatorNames(), "--estimators");
     o.config.samplers = splitList(o.samplers, samplerNames(), "--samplers");
     o.config.modes.clear();
     for (const std::string& m : splitList(o.modes, {"branch", "spread"}, "--symmetric-modes")) o.config.modes.push_back(parseSymmetricMode(m));
     o.config.spps = o.spps;
     o.config.plots = !o.noPlots;
-    gInterrupted = false;
-    const auto previous = std::signal(SIGINT, onInterrupt);
     StudyOutcome outcome;
-    try {
-        outcome = runStudy(o.config, &gInterrupted, stderrIsTerminal());
-    } catch (...) {
-        std::signal(SIGINT, previous);
-        throw;
+    {
+        const LauncherStopGuard guard(job, LauncherStop::StopStudy);
+        outcome = runStudyDistributed(job, o.config, &gInterrupted, stderrIsTerminal());
     }
-    std::signal(SIGINT, previous);
+    if (!job.root()) return outcome.cancelled ? 130 : 0;
     if (outcome.cancelled) {
         fmt::print(stderr, "symphong: interrupted; {} finished row(s) kept in {}/results.csv\n", outcome.rows.size(), o.config.outDir);
         return 130;
@@ -358,13 +414,11 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
     }
     try {
         if (app.got_subcommand("render")) return runRender(renderOptions, job);
-        // furnace and study are not shared among ranks: rank 0 runs them alone, the others stop here.
+        if (app.got_subcommand("study")) return runStudyCommand(studyOptions, job);
+        // The furnace is not shared among ranks (its estimates take seconds): rank 0 runs it alone.
         if (!job.root()) return 0;
-        if (job.size() > 1)
-            fmt::print(stderr, "symphong: warning: '{}' does not share its work among MPI ranks; rank 0 runs it alone\n",
-                       app.got_subcommand("furnace") ? "furnace" : "study");
+        if (job.size() > 1) fmt::print(stderr, "symphong: warning: 'furnace' does not share its work among MPI ranks; rank 0 runs it alone\n");
         if (app.got_subcommand("furnace")) return runFurnaceCommand(furnaceOptions);
-        if (app.got_subcommand("study")) return runStudyCommand(studyOptions);
     } catch (const InputError& e) {
         // Errors that reach here are the same on every rank (or were agreed on): reported once.
         if (job.root()) fmt::print(stderr, "symphong: error: {}\n", e.what());

@@ -1,7 +1,7 @@
 // distrib/ — running one job across processes with MPI (Open MPI from Debian), on one machine or many:
-// the job's ranks (this file), and the work shared among them (render.h). A process not started by
-// mpirun/mpiexec/srun never initialises MPI and runs exactly as a plain program. Only the program links
-// this layer; the Python module stays a single process.
+// the job's ranks (this file), and the work shared among them: one render (render.h), one study
+// (study.h). A process not started by mpirun/mpiexec/srun never initialises MPI and runs exactly as a
+// plain program. Only the program links this layer; the Python module stays a single process.
 #pragma once
 
 #include <string>

@@ -93,6 +93,9 @@ RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Acce
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
     RenderResult result;
     RenderSettings local = settings;
+    // Only rank 0 acts on a cancellation (it stops handing out tiles); a rank that skipped its tiles on its
+    // own would leave holes in an image that is not marked cancelled.
+    if (!job.root()) local.cancel = nullptr;
     std::vector<int> tilesPerRank(static_cast<std::size_t>(job.size()), 0);
 
     if (job.root()) {

@@ -245,7 +245,7 @@ std::string modeList(const std::vector<SymmetricMode>& modes) {
 
 std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, const std::vector<StudySummary>& summary,
                            const std::string& conclusion, const std::string& referenceNote, double referenceNoise, bool plotted,
-                           std::uint32_t heatSpp, bool cancelled) {
+                           std::uint32_t heatSpp, bool cancelled, int processes) {
     std::string md = fmt::format("# Estimator study: {}\n\n", sceneName);
     if (cancelled) md += "**Interrupted**: these are the rows finished before the study was stopped.\n\n";
     md += fmt::format(
@@ -254,6 +254,7 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
         "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height {}`.\n\n",
         c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, referenceNote, c.scene, fmt::join(c.estimators, ","),
         fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height);
+    if (processes > 1) md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
     md += "## Conclusion\n\n" + conclusion + "\n\n";
     for (const auto& s : summary)
         if (s.mse > 0 && referenceNoise > 0.5 * s.mse) {
@@ -329,8 +330,10 @@ std::function<void(std::size_t)>& rowObserver() {
 
 void setStudyRowObserver(std::function<void(std::size_t rows)> observer) { rowObserver() = std::move(observer); }
 
-StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel, bool showProgress) {
-    StudyConfig c = config;
+namespace {
+
+/// Checks a study's configuration and puts its sample counts in order; returns the heat maps' spp.
+std::uint32_t checkConfig(StudyConfig& c) {
     if (c.estimators.empty()) throw InputError("--estimators: the list is empty");
     for (const auto& e : c.estimators) try {
             makeEstimator(e, c.options);
@@ -348,7 +351,6 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         if (std::find(samplerNames().begin(), samplerNames().end(), name) == samplerNames().end())
             throw InputError(fmt::format("--samplers: unknown sampler '{}' (valid: {})", name, fmt::join(samplerNames(), ", ")));
     if (c.modes.empty()) throw InputError("--symmetric-modes: the list is empty");
-    const std::vector<StudyVariant> variants = studyVariants(c);
     if (c.spps.empty()) throw InputError("--spp: the list is empty");
     for (auto s : c.spps)
         if (s == 0) throw InputError("--spp: sample counts must be at least 1");
@@ -358,15 +360,96 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
     const std::uint32_t heatSpp = c.heatmapSpp ? c.heatmapSpp : c.spps[c.spps.size() / 2];
     if (std::find(c.spps.begin(), c.spps.end(), heatSpp) == c.spps.end())
         throw InputError(fmt::format("--heatmap-spp {} is not one of the --spp values", heatSpp));
+    return heatSpp;
+}
 
-    Scene scene = loadScene(c.scene);
-    for (const std::string& w : scene.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
+/// The study's reference image with what is known of it.
+struct Reference {
+    Image image;
+    MeanWithError mean;
+    double noise = 0;  ///< mean over pixels of its variance-of-mean (luminance); 0 when unknown
+    std::string note;  ///< the report's sentence on where it came from
+    bool have = false;  ///< false: it must be rendered
+};
+
+/// The given reference (--reference), or the one cached in `dir` for the same settings (`key`);
+/// `have` false when there is none (a damaged cache counts as none).
+Reference existingReference(const StudyConfig& c, const fs::path& dir, const nlohmann::json& key) {
+    Reference ref;
+    const fs::path exr = dir / "reference.exr", json = dir / "reference.json";
+    if (!c.referencePath.empty()) {
+        ref.image = readExr(c.referencePath);
+        if (ref.image.width != c.width || ref.image.height != c.height)
+            throw InputError(fmt::format("--reference {}: {}x{} does not match the study's {}x{}", c.referencePath, ref.image.width,
+                                         ref.image.height, c.width, c.height));
+        ref.mean = meanLuminance(ref.image);
+        ref.note = fmt::format("Reference: `{}` (given; its own noise is unknown and taken as zero).", c.referencePath);
+        ref.have = true;
+    } else if (fs::exists(exr) && fs::exists(json)) {
+        try {
+            const auto cached = nlohmann::json::parse(readTextFile(json.string()));
+            if (cached.value("key", nlohmann::json()) == key) {
+                ref.image = readExr(exr.string());
+                ref.mean = {cached.at("mean_luminance").get<double>(), cached.at("mean_std_error").get<double>()};
+                ref.noise = cached.at("pixel_variance").get<double>();
+                ref.have = ref.image.width == c.width && ref.image.height == c.height;
+                ref.note = fmt::format("Reference: `{}` at {} spp, cached in reference.exr.", c.referenceEstimator, c.referenceSpp);
+            }
+        } catch (const std::exception&) {
+            ref = Reference{};  // a damaged cache is re-rendered
+        }
+    }
+    return ref;
+}
+
+}  // namespace
+
+RenderResult StudyRuntime::render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                                  std::atomic<std::uint64_t>* progress) const {
+    return symphong::render(scene, accel, estimator, settings, progress);
+}
+
+StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel, bool showProgress, const StudyRuntime* runtime) {
+    const StudyRuntime inThisProcess;
+    const StudyRuntime& rt = runtime ? *runtime : inThisProcess;
+    const bool writer = rt.writer();
+    StudyConfig c = config;
     const fs::path dir(c.outDir);
-    std::error_code ec;
-    fs::create_directories(dir / "renders", ec);
-    fs::create_directories(dir / "heatmaps", ec);
-    if (ec || !fs::is_directory(dir)) throw InputError(fmt::format("--out {}: cannot create the directory", c.outDir));
-    writeFile((dir / "results.csv").string(), std::string(kStudyCsvHeader) + "\n");  // fails early if unwritable
+    std::uint32_t heatSpp = 0;
+    std::vector<StudyVariant> variants;
+    Scene scene;
+    nlohmann::json refKey;
+    Reference ref;
+    // Preparing: every process checks the configuration and loads the scene; the writer also makes the
+    // output directory and looks for a reference. Bad input in any process stops all of them with one
+    // message (the process that met it keeps its exception's type).
+    std::exception_ptr failure;
+    std::string error;
+    try {
+        heatSpp = checkConfig(c);
+        variants = studyVariants(c);
+        scene = loadScene(c.scene);
+        refKey = {{"scene", sceneFingerprint(c.scene)}, {"width", c.width}, {"height", c.height}, {"spp", c.referenceSpp},
+                  {"estimator", c.referenceEstimator}, {"sampler", c.referenceSampler}, {"max_depth", c.maxDepth}, {"seed", c.seed},
+                  {"symmetric_n", c.options.symmetricN}, {"version", 1}};
+        if (writer) {
+            for (const std::string& w : scene.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
+            std::error_code ec;
+            fs::create_directories(dir / "renders", ec);
+            fs::create_directories(dir / "heatmaps", ec);
+            if (ec || !fs::is_directory(dir)) throw InputError(fmt::format("--out {}: cannot create the directory", c.outDir));
+            writeFile((dir / "results.csv").string(), std::string(kStudyCsvHeader) + "\n");  // fails early if unwritable
+            ref = existingReference(c, dir, refKey);
+        }
+    } catch (const InputError& e) {
+        failure = std::current_exception();
+        error = e.what();
+    }
+    if (const std::string agreed = rt.agreeOnError(error); !agreed.empty()) {
+        if (failure && agreed == error) std::rethrow_exception(failure);
+        throw InputError(agreed);
+    }
+    ref.have = rt.writersValue(ref.have);
 
     const Accel accel(scene);
     RenderSettings base;
@@ -394,50 +477,19 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         const RenderResult r = render(scene, accel, *est, pilot);
         return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
     };
+    // Only the writer shows progress; the other processes skip the pilots.
     std::map<std::string, double> cost;
     double total = 0;
-    for (const auto& v : variants) {
-        cost[v.label] = pilotCost(v.estimator, variantOptions(v), v.sampler);
-        for (auto s : c.spps) total += cost[v.label] * s * c.width * c.height * c.repeats;
-    }
-
-    // Reference: given, cached, or rendered now.
-    Image reference;
-    MeanWithError refMean;
-    double refNoise = 0;  // mean over pixels of the reference's variance-of-mean (luminance)
-    std::string referenceNote;
-    const fs::path refExr = dir / "reference.exr", refJson = dir / "reference.json";
-    nlohmann::json refKey = {{"scene", sceneFingerprint(c.scene)}, {"width", c.width}, {"height", c.height}, {"spp", c.referenceSpp},
-                             {"estimator", c.referenceEstimator}, {"sampler", c.referenceSampler}, {"max_depth", c.maxDepth}, {"seed", c.seed},
-                             {"symmetric_n", c.options.symmetricN}, {"version", 1}};
+    if (writer)
+        for (const auto& v : variants) {
+            cost[v.label] = pilotCost(v.estimator, variantOptions(v), v.sampler);
+            for (auto s : c.spps) total += cost[v.label] * s * c.width * c.height * c.repeats;
+        }
     std::atomic<std::uint64_t> rowSamples{0};
     double doneBefore = 0, currentCost = 0;
     std::string currentLabel = "reference";
     std::mutex labelMutex;
-    bool haveReference = false;
-    if (!c.referencePath.empty()) {
-        reference = readExr(c.referencePath);
-        if (reference.width != c.width || reference.height != c.height)
-            throw InputError(fmt::format("--reference {}: {}x{} does not match the study's {}x{}", c.referencePath, reference.width,
-                                         reference.height, c.width, c.height));
-        refMean = meanLuminance(reference);
-        referenceNote = fmt::format("Reference: `{}` (given; its own noise is unknown and taken as zero).", c.referencePath);
-        haveReference = true;
-    } else if (fs::exists(refExr) && fs::exists(refJson)) {
-        try {
-            const auto cached = nlohmann::json::parse(readTextFile(refJson.string()));
-            if (cached.value("key", nlohmann::json()) == refKey) {
-                reference = readExr(refExr.string());
-                refMean = {cached.at("mean_luminance").get<double>(), cached.at("mean_std_error").get<double>()};
-                refNoise = cached.at("pixel_variance").get<double>();
-                haveReference = reference.width == c.width && reference.height == c.height;
-                referenceNote = fmt::format("Reference: `{}` at {} spp, cached in reference.exr.", c.referenceEstimator, c.referenceSpp);
-            }
-        } catch (const std::exception&) {
-            haveReference = false;  // a damaged cache is re-rendered
-        }
-    }
-    const double refCost = haveReference ? 0.0 : pilotCost(c.referenceEstimator, c.options, c.referenceSampler);
+    const double refCost = ref.have || !writer ? 0.0 : pilotCost(c.referenceEstimator, c.options, c.referenceSampler);
     const double refWork = refCost * c.referenceSpp * c.width * c.height;
     total += refWork;
 
@@ -451,38 +503,41 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                     showProgress);
 
     StudyOutcome outcome;
-    if (!haveReference) {
+    if (!ref.have) {
         currentCost = refCost;
         RenderSettings rs = base;
         rs.spp = c.referenceSpp;
         rs.seed = mixSeed(c.seed, 0xFEFE);
         rs.sampler = c.referenceSampler;
         const auto est = makeEstimator(c.referenceEstimator, c.options);
-        const RenderResult r = render(scene, accel, *est, rs, &rowSamples);
+        const RenderResult r = rt.render(scene, accel, *est, rs, &rowSamples);
         if (r.cancelled) {
             bar.finish();
             outcome.cancelled = true;
             return outcome;
         }
         outcome.referenceRendered = true;
-        // Used as the cache stores it (32-bit float), so a study gives the same numbers, bit for bit,
-        // whether its reference was just rendered or read back from reference.exr.
-        reference = r.image;
-        for (Color& p : reference.pixels)
-            for (int ch = 0; ch < 3; ++ch) p[ch] = static_cast<float>(p[ch]);
-        refMean = meanLuminance(reference, &r.variance);
-        for (const Color& v : r.variance.pixels) refNoise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
-        writeExr(reference, refExr.string(), false);
-        writeFile(refJson.string(), nlohmann::json{{"key", refKey}, {"mean_luminance", refMean.mean}, {"mean_std_error", refMean.stdError},
-                                                       {"pixel_variance", refNoise}, {"seconds", r.stats.seconds}}
-                                                .dump(2) +
-                                            "\n");
-        referenceNote = fmt::format("Reference: `{}` at {} spp ({:.1f} s), cached in reference.exr.", c.referenceEstimator,
-                                    c.referenceSpp, r.stats.seconds);
+        if (writer) {
+            // Used as the cache stores it (32-bit float), so a study gives the same numbers, bit for bit,
+            // whether its reference was just rendered or read back from reference.exr.
+            ref.image = r.image;
+            for (Color& p : ref.image.pixels)
+                for (int ch = 0; ch < 3; ++ch) p[ch] = static_cast<float>(p[ch]);
+            ref.mean = meanLuminance(ref.image, &r.variance);
+            for (const Color& v : r.variance.pixels) ref.noise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
+            writeExr(ref.image, (dir / "reference.exr").string(), false);
+            writeFile((dir / "reference.json").string(),
+                      nlohmann::json{{"key", refKey}, {"mean_luminance", ref.mean.mean}, {"mean_std_error", ref.mean.stdError},
+                                     {"pixel_variance", ref.noise}, {"seconds", r.stats.seconds}}
+                              .dump(2) +
+                          "\n");
+            ref.note = fmt::format("Reference: `{}` at {} spp ({:.1f} s), cached in reference.exr.", c.referenceEstimator, c.referenceSpp,
+                                   r.stats.seconds);
+        }
     }
     doneBefore += refWork;
     rowSamples = 0;
-    writePng(reference, (dir / "reference.png").string());
+    if (writer) writePng(ref.image, (dir / "reference.png").string());
 
     const Crop crop{c.width / 3, c.height / 3, std::max(1, c.width / 3), std::max(1, c.height / 3)};
     const auto writeResults = [&] {
@@ -494,8 +549,9 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         j["config"] = {{"scene", scene.name}, {"scene_spec", c.scene}, {"estimators", c.estimators}, {"samplers", c.samplers},
                        {"variants", variantList}, {"spp", c.spps},
                        {"repeats", c.repeats}, {"width", c.width}, {"height", c.height}, {"max_depth", c.maxDepth}, {"seed", c.seed},
+                       {"processes", rt.processes()},
                        {"reference", {{"path", c.referencePath}, {"estimator", c.referenceEstimator}, {"spp", c.referenceSpp},
-                                      {"mean_luminance", refMean.mean}, {"pixel_variance", refNoise}}},
+                                      {"mean_luminance", ref.mean.mean}, {"pixel_variance", ref.noise}}},
                        {"heatmap", {{"spp", heatSpp}, {"width", c.width}, {"height", c.height}, {"crop", {crop.x, crop.y, crop.w, crop.h}}}}};
         j["rows"] = nlohmann::json::array();
         for (const auto& r : outcome.rows) j["rows"].push_back(rowJson(r));
@@ -526,7 +582,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 rs.spp = spp;
                 rs.sampler = variant.sampler;
                 rs.seed = mixSeed(mixSeed(mixSeed(c.seed, ei + 1), spp), static_cast<std::uint64_t>(rep));
-                const RenderResult r = render(scene, accel, *est, rs, &rowSamples);
+                const RenderResult r = rt.render(scene, accel, *est, rs, &rowSamples);
                 doneBefore += cost[name] * spp * c.width * c.height;
                 rowSamples = 0;
                 ++rowIndex;
@@ -534,6 +590,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                     outcome.cancelled = true;
                     break;
                 }
+                if (!writer) continue;  // it helped render; the writer measures
                 StudyRow row;
                 row.scene = scene.name;
                 row.estimator = variant.estimator;
@@ -550,12 +607,12 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 const MeanWithError m = meanLuminance(r.image, &r.variance);
                 row.meanLuminance = m.mean;
                 row.meanStdError = m.stdError;
-                row.relativeBias = refMean.mean != 0 ? (m.mean - refMean.mean) / refMean.mean : 0.0;
-                const ImageError err = imageError(r.image, reference);
+                row.relativeBias = ref.mean.mean != 0 ? (m.mean - ref.mean.mean) / ref.mean.mean : 0.0;
+                const ImageError err = imageError(r.image, ref.image);
                 row.mseRaw = err.mse;
                 // Remove the reference's own noise from the error; where that would leave less than 5% of
                 // the raw error the reference is too noisy to say more (the report warns).
-                row.mse = std::max(err.mse - refNoise, 0.05 * err.mse);
+                row.mse = std::max(err.mse - ref.noise, 0.05 * err.mse);
                 row.rmse = std::sqrt(row.mse);
                 row.relMse = err.relMse;
                 row.efficiency = 1.0 / (row.mse * std::max(row.seconds, 1e-9));
@@ -565,7 +622,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 means.push_back(m);
                 if (spp == heatSpp && rep == 0) {
                     writePng(r.image, (dir / "renders" / (name + ".png")).string());
-                    const std::vector<float> map = relativeErrorMap(r.image, reference);
+                    const std::vector<float> map = relativeErrorMap(r.image, ref.image);
                     writeFile((dir / "heatmaps" / (name + ".f32")).string(),
                               std::string(reinterpret_cast<const char*>(map.data()), map.size() * sizeof(float)));
                 }
@@ -577,7 +634,8 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 outcome.rows.resize(firstRow);  // keep only whole groups: their group columns are complete
                 break;
             }
-            const BiasEstimate bias = relativeBias(means, refMean);
+            if (!writer) continue;
+            const BiasEstimate bias = relativeBias(means, ref.mean);
             std::vector<const Image*> ptrs;
             for (const Image& im : images) ptrs.push_back(&im);
             const double pv = pixelVarianceAcrossRepeats(ptrs);
@@ -590,11 +648,12 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 row.groupBiasSignificant = bias.significant;
                 row.groupPixelVariance = pv;
             }
-            writeResults();
+            if (writer) writeResults();
         }
         if (outcome.cancelled) break;
     }
     bar.finish();
+    if (!writer) return outcome;
     writeResults();
 
     if (!outcome.cancelled && c.plots) {
@@ -611,8 +670,8 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         }
     }
     writeFile((dir / "report.md").string(),
-                  reportMarkdown(c, scene.name, outcome.summary, outcome.conclusion, referenceNote, refNoise, outcome.plotted, heatSpp,
-                                 outcome.cancelled));
+                  reportMarkdown(c, scene.name, outcome.summary, outcome.conclusion, ref.note, ref.noise, outcome.plotted, heatSpp,
+                                 outcome.cancelled, rt.processes()));
     return outcome;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "estimators/estimator.h"
+#include "render/renderer.h"
 
 #include <atomic>
 #include <functional>
@@ -106,8 +107,29 @@ struct StudyOutcome {
 /// (the command line's too); empty by default. Tests use it to stop a study at a known row.
 void setStudyRowObserver(std::function<void(std::size_t rows)> observer);
 
+/// Where a study's renders run and which process writes its files. This base class: all in this
+/// process. A study shared among processes (distrib/study.h) runs runStudy in every process, in step:
+/// each render is shared among them, the decisions taken from one process's files (a cached reference)
+/// are made everyone's, and only that process (the writer) measures, writes and reports.
+class StudyRuntime {
+public:
+    virtual ~StudyRuntime() = default;
+    /// One of the study's renders (the reference and each row); collective when shared. The result is
+    /// complete on the writer.
+    virtual RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                                std::atomic<std::uint64_t>* progress) const;
+    /// Collective: every process passes the bad-input error it met while preparing ("" if none); returns
+    /// the first one of all processes, the same everywhere ("" when none failed).
+    virtual std::string agreeOnError(const std::string& localError) const { return localError; }
+    /// Collective: the writer's value, on every process.
+    virtual bool writersValue(bool value) const { return value; }
+    virtual bool writer() const { return true; }
+    virtual int processes() const { return 1; }
+};
+
 /// Runs the study; `cancel` (e.g. set by Ctrl-C) stops it between tiles, keeping finished rows in
-/// results.csv. Throws InputError on bad configuration.
-StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel = nullptr, bool showProgress = false);
+/// results.csv. Throws InputError on bad configuration. `runtime` null: all in this process.
+StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel = nullptr, bool showProgress = false,
+                      const StudyRuntime* runtime = nullptr);
 
 }  // namespace symphong

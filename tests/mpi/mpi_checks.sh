@@ -7,6 +7,10 @@
 #   missing                a missing scene under 2 ranks: exit 2, one line on stderr, no file
 #   one-rank-fails         the scene is missing on rank 1 only: exit 2, rank 0 reports it once, no file
 #   study                  a study under 2 ranks has the rows of a study without MPI (timings aside)
+#   study-bad-input        a study's bad input under 2 ranks: exit 2, one message, no results
+#   study-interrupt        SIGINT to mpiexec during a study under 2 ranks: whole groups of rows kept,
+#                          the report marked interrupted, rank 0 says so
+#   rank-dies              rank 1 killed during a render: non-zero exit, rank 0 says so, no file
 set -euo pipefail
 check=$1 bin=$2 mpiexec=$3
 shift 3
@@ -54,8 +58,55 @@ study)
 import json, sys
 timing = {"seconds", "efficiency", "efficiency_relmse"}
 a, b = ([{k: v for k, v in r.items() if k not in timing} for r in json.load(open(p))["rows"]] for p in sys.argv[1:])
-sys.exit(0 if a == b and len(a) == 8 else 1)
+config = json.load(open(sys.argv[2]))["config"]
+sys.exit(0 if a == b and len(a) == 8 and config["processes"] == 2 else 1)
 PY
+  ;;
+study-bad-input)
+  expect_bad_input "symphong: error: $work/missing.obj: no such file" \
+    "${launch[@]}" -np 2 "$bin" study "$work/missing.obj" -o "$work/st"
+  [ ! -e "$work/st/results.csv" ] || fail "results.csv was created"
+  ;;
+study-interrupt)
+  # Long enough to be interrupted after its first rows; short tiles, so that it stops within the second
+  # that mpirun leaves between SIGTERM and SIGKILL.
+  "${launch[@]}" -np 2 "$bin" study cornell --estimators cosine,phong --spp 1,2,4,8,16,32,64,128,256,512,1024 -R 2 -W 32 -H 32 \
+    --reference-spp 64 --no-plots -t 1 -o "$work/st" >"$work/out" 2>"$work/err" &
+  launcher=$!
+  for _ in $(seq 600); do
+    [ "$(cat "$work/st/results.csv" 2>/dev/null | wc -l)" -ge 3 ] && break
+    sleep 0.1
+  done
+  kill -INT "$launcher"
+  rc=0
+  wait "$launcher" || rc=$?
+  [ "$rc" -ne 0 ] || fail "exit code 0 after an interruption"
+  rows=$(($(wc -l <"$work/st/results.csv") - 1))
+  [ "$rows" -ge 2 ] && [ $((rows % 2)) -eq 0 ] || fail "$rows rows kept: expected whole groups of 2"
+  [ "$rows" -lt 44 ] || fail "the study finished before it was interrupted"
+  grep -qxF "symphong: interrupted; $rows finished row(s) kept in $work/st/results.csv" "$work/err" ||
+    fail "rank 0's message: $(cat "$work/err")"
+  grep -qF '**Interrupted**' "$work/st/report.md" || fail "the report does not say it was interrupted"
+  ;;
+rank-dies)
+  "${launch[@]}" -np 2 "$bin" render cornell --spp 4096 -W 64 -H 64 -t 1 -o "$work/x.png" >"$work/out" 2>"$work/err" &
+  launcher=$!
+  victim=
+  for _ in $(seq 300); do
+    for pid in $(pgrep -f "^$bin render" || true); do
+      tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 && victim=$pid
+    done
+    [ -n "$victim" ] && break
+    sleep 0.1
+  done
+  [ -n "$victim" ] || fail "rank 1 was not found"
+  sleep 1
+  kill -KILL "$victim"
+  rc=0
+  wait "$launcher" || rc=$?
+  [ "$rc" -ne 0 ] || fail "exit code 0 after a rank died"
+  grep -qxF "symphong: the MPI launcher is stopping the job (Ctrl-C, or a rank ended)" "$work/err" || fail "rank 0's message: $(cat "$work/err")"
+  [ ! -e "$work/x.png" ] || fail "an output file was created"
   ;;
 *) fail "unknown check $check" ;;
 esac
