@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <limits>
 #include <optional>
 #include <thread>
 
@@ -464,6 +465,51 @@ Scene(spec) is load_scene(spec). The acceleration structure is built on the firs
             const Color& e = s.scene().environment;
             return py::make_tuple(e.x, e.y, e.z);
         }, "RGB radiance arriving from directions that leave the scene")
+        .def(
+            "mesh",
+            [](const PyScene& s) {
+                const Scene& sc = s.scene();
+                py::array_t<double> positions({static_cast<py::ssize_t>(sc.positions.size()), static_cast<py::ssize_t>(3)});
+                double* p = positions.mutable_data();
+                for (std::size_t i = 0; i < sc.positions.size(); ++i)
+                    for (int c = 0; c < 3; ++c) p[3 * i + c] = sc.positions[i][c];
+                py::array_t<std::uint32_t> triangles({static_cast<py::ssize_t>(sc.triangles.size()), static_cast<py::ssize_t>(3)});
+                py::array_t<std::uint32_t> material(static_cast<py::ssize_t>(sc.triangles.size()));
+                std::uint32_t* t = triangles.mutable_data();
+                std::uint32_t* m = material.mutable_data();
+                for (std::size_t i = 0; i < sc.triangles.size(); ++i) {
+                    for (int c = 0; c < 3; ++c) t[3 * i + c] = sc.triangles[i].v[static_cast<std::size_t>(c)];
+                    m[i] = sc.triangles[i].material;
+                }
+                py::dict d;
+                d["positions"] = positions;
+                d["triangles"] = triangles;
+                d["material"] = material;
+                return d;
+            },
+            "The geometry as rendered: dict of positions (V, 3) float64, triangles (T, 3) uint32 vertex indices (front face\n"
+            "counter-clockwise: emitters emit along cross(v1 - v0, v2 - v0)) and material (T,) uint32 indices into materials.")
+        .def(
+            "primary_hits",
+            [](const PyScene& s, long long width, long long height) {
+                const int w = checkedRange<int>("width", width, 1, 16384), h = checkedRange<int>("height", height, 1, 16384);
+                if (static_cast<long>(w) * h > kMaxImagePixels) throw InputError(fmt::format("image size {}x{} is too large", w, h));
+                py::array_t<std::int64_t> out({static_cast<py::ssize_t>(h), static_cast<py::ssize_t>(w)});
+                std::int64_t* o = out.mutable_data();
+                const Accel& accel = s.accel();
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        Vec3 origin, dir;
+                        cameraRay(s.scene().camera, w, h, x + 0.5, y + 0.5, origin, dir);
+                        Hit hit;
+                        o[static_cast<std::size_t>(y) * w + x] =
+                            accel.intersect(origin, dir, 0.0, std::numeric_limits<double>::infinity(), hit) ? hit.prim : -1;
+                    }
+                return out;
+            },
+            py::arg("width"), py::arg("height"),
+            "(H, W) int64: the triangle that the camera ray through each pixel's centre hits first (-1: none), as render()\n"
+            "frames a width x height image. For masks of surfaces when comparing images region by region.")
         .def_property_readonly("has_emitter", [](const PyScene& s) { return s.scene().hasEmitter(); })
         .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; }, "the loader's non-fatal notes")
         .def("__repr__", [](const PyScene& s) {

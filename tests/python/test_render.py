@@ -2,6 +2,8 @@
 import numpy as np
 import pytest
 
+from conftest import REPO
+
 
 def test_shape_and_dtype(sym):
     img, stats = sym.render(sym.load_scene("cornell"), spp=4, width=64, height=48)
@@ -132,3 +134,35 @@ def test_write_image_roundtrip(sym, tmp_path):
     assert (tmp_path / "x.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     sym.write_image(str(tmp_path / "h.exr"), img, exr_half=True)
     assert np.allclose(sym.read_image(str(tmp_path / "h.exr")), img, rtol=1e-3)
+
+
+def test_mesh_is_the_geometry_rendered(sym):
+    scene = sym.load_scene(str(REPO / "scenes" / "cornell-classic.json"))
+    mesh = scene.mesh()
+    assert mesh["positions"].shape == (scene.vertex_count, 3)
+    assert mesh["triangles"].shape == (scene.triangle_count, 3)
+    assert mesh["material"].shape == (scene.triangle_count,)
+    assert mesh["triangles"].max() < scene.vertex_count
+    names = [m["name"] for m in scene.materials]
+    light = [i for i, m in enumerate(mesh["material"]) if names[m] == "light"]
+    assert len(light) == 2
+    for t in light:  # the light faces down: its front face is counter-clockwise seen from below
+        a, b, c = (mesh["positions"][i] for i in mesh["triangles"][t])
+        normal = np.cross(b - a, c - a)
+        assert normal[1] < 0 and abs(normal[0]) < 1e-9 and abs(normal[2]) < 1e-9
+        assert a[1] == b[1] == c[1] == 554
+
+
+def test_primary_hits_name_the_surface_under_each_pixel(sym):
+    scene = sym.load_scene(str(REPO / "scenes" / "cornell-classic.json"))
+    mesh = scene.mesh()
+    hits = scene.primary_hits(64, 48)
+    assert hits.shape == (48, 64) and hits.dtype == np.int64
+    z = lambda t: mesh["positions"][mesh["triangles"][t]][:, 2]  # noqa: E731
+    assert (z(hits[14, 32]) == 555).all(), "above the blocks, the middle column sees the back wall"
+    names = [m["name"] for m in scene.materials]
+    assert names[mesh["material"][hits[24, 1]]] == "red" and names[mesh["material"][hits[24, 62]]] == "green"
+    assert (hits >= 0).all(), "the camera looks into the closed part of the box"
+    assert (sym.load_scene("cornell").primary_hits(4, 4) >= 0).all()
+    with pytest.raises(ValueError, match="width"):
+        scene.primary_hits(0, 4)
