@@ -503,7 +503,7 @@ Scene(spec) is load_scene(spec). The acceleration structure is built on the firs
                         cameraRay(s.scene().camera, w, h, x + 0.5, y + 0.5, origin, dir);
                         Hit hit;
                         o[static_cast<std::size_t>(y) * w + x] =
-                            accel.intersect(origin, dir, 0.0, std::numeric_limits<double>::infinity(), hit) ? hit.prim : -1;
+                            accel.intersect(origin, dir, 0.0, std::numeric_limits<double>::infinity(), hit) ? static_cast<std::int64_t>(hit.prim) : -1;
                     }
                 return out;
             },

@@ -156,13 +156,14 @@ def test_mesh_is_the_geometry_rendered(sym):
 def test_primary_hits_name_the_surface_under_each_pixel(sym):
     scene = sym.load_scene(str(REPO / "scenes" / "cornell-classic.json"))
     mesh = scene.mesh()
-    hits = scene.primary_hits(64, 48)
-    assert hits.shape == (48, 64) and hits.dtype == np.int64
+    hits = scene.primary_hits(48, 48)
+    assert hits.shape == (48, 48) and hits.dtype == np.int64
     z = lambda t: mesh["positions"][mesh["triangles"][t]][:, 2]  # noqa: E731
-    assert (z(hits[14, 32]) == 555).all(), "above the blocks, the middle column sees the back wall"
+    assert (z(hits[14, 24]) == 555).all(), "above the blocks, the middle column sees the back wall"
     names = [m["name"] for m in scene.materials]
-    assert names[mesh["material"][hits[24, 1]]] == "red" and names[mesh["material"][hits[24, 62]]] == "green"
-    assert (hits >= 0).all(), "the camera looks into the closed part of the box"
+    assert names[mesh["material"][hits[24, 1]]] == "red" and names[mesh["material"][hits[24, 46]]] == "green"
+    assert (hits >= 0).all(), "a square image sees only the inside of the box"
+    assert (scene.primary_hits(96, 48)[:, 0] == -1).all(), "a wide one sees past the walls: misses are -1"
     assert (sym.load_scene("cornell").primary_hits(4, 4) >= 0).all()
     with pytest.raises(ValueError, match="width"):
         scene.primary_hits(0, 4)
