@@ -162,8 +162,8 @@ def test_primary_hits_name_the_surface_under_each_pixel(sym):
     assert (z(hits[14, 24]) == 555).all(), "above the blocks, the middle column sees the back wall"
     names = [m["name"] for m in scene.materials]
     assert names[mesh["material"][hits[24, 1]]] == "red" and names[mesh["material"][hits[24, 46]]] == "green"
-    assert (hits >= 0).all(), "a square image sees only the inside of the box"
-    assert (scene.primary_hits(96, 48)[:, 0] == -1).all(), "a wide one sees past the walls: misses are -1"
+    assert (hits[1:-1, 1:-1] >= 0).all(), "inside its border, the image sees only the inside of the box"
+    assert (hits[:, 0] == -1).all(), "the outermost columns look past the open front: misses are -1"
     assert (sym.load_scene("cornell").primary_hits(4, 4) >= 0).all()
     with pytest.raises(ValueError, match="width"):
         scene.primary_hits(0, 4)
