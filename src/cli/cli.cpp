@@ -110,7 +110,8 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     r->add_flag("--exr-half", o.exrHalf, "write EXR as 16-bit half instead of 32-bit float");
-    r->add_flag("--no-nee", o.noNee, "no light sampling: emitters are found only by the estimator's directions");
+    r->add_flag("--no-nee", o.noNee, "no light sampling of emissive triangles: they are found only by the estimator's directions (point, spot and "
+                "directional lights are still sampled: nothing else can reach them)");
     addEstimatorOptions(r, o.estimatorOptions);
 }
 

@@ -34,14 +34,32 @@ double powerHeuristic(double a, double b) {
 
 }  // namespace
 
-EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& areas) : slot_(scene.triangles.size(), -1) {
+EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withTriangles) : slot_(scene.triangles.size(), -1) {
     std::vector<double> power;
-    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+    for (std::size_t i = 0; i < scene.triangles.size() && withTriangles; ++i) {
         const PhongMaterial& m = scene.materials[scene.triangles[i].material];
         const double p = areas[i] * luminance(m.emission);
         if (m.isEmissive() && p > 0) {
-            slot_[i] = static_cast<std::int32_t>(emitters_.size());
-            emitters_.push_back(static_cast<std::uint32_t>(i));
+            slot_[i] = static_cast<std::int32_t>(entries_.size());
+            entries_.push_back(static_cast<std::uint32_t>(i));
+            power.push_back(p);
+        }
+    }
+    lightBase_ = entries_.size();
+    Vec3 lo, hi;
+    scene.bounds(lo, hi);
+    const double radius = 0.5 * length(hi - lo);
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        const double y = luminance(l.intensity);
+        double p = 0;
+        switch (l.type) {
+            case Light::Type::Point: p = 4 * kPi * y; break;
+            case Light::Type::Spot: p = 2 * kPi * y * (1 - 0.5 * (l.cosInner + l.cosOuter)); break;
+            case Light::Type::Directional: p = kPi * radius * radius * y; break;
+        }
+        if (p > 0) {
+            entries_.push_back(static_cast<std::uint32_t>(i));
             power.push_back(p);
         }
     }
@@ -53,11 +71,12 @@ double EmitterSampler::pickProbability(std::uint32_t prim) const {
     return s < 0 ? 0.0 : distribution_.pmf(static_cast<std::size_t>(s));
 }
 
-std::uint32_t EmitterSampler::pick(double u, double& probability, double& uRemapped) const {
+std::uint32_t EmitterSampler::pick(double u, double& probability, double& uRemapped, bool& isLight) const {
     const std::size_t i = distribution_.sample(u);
     probability = distribution_.pmf(i);
     uRemapped = std::clamp((u - distribution_.cdf(i)) / probability, 0.0, kOneBelow);
-    return emitters_[i];
+    isLight = i >= lightBase_;
+    return entries_[i];
 }
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings)
@@ -66,8 +85,9 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       estimator_(estimator),
       settings_(settings),
       areas_(triangleAreas(scene, geometricNormals_)),
-      emitters_(scene, areas_),
-      useLightSampling_(settings.nextEvent && estimator.combinesWithLightSampling() && !emitters_.empty()) {
+      emitters_(scene, areas_, settings.nextEvent && estimator.combinesWithLightSampling()),
+      triangleSampling_(emitters_.hasTriangles()),
+      lightSampling_(!emitters_.empty()) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});
@@ -106,7 +126,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     Color L(0.0);
     if (mat.isEmissive() && frontFace) {
         double w = 1.0;
-        if (depth > 0 && useLightSampling_) {
+        if (depth > 0 && triangleSampling_) {
             const double dist2 = hit.t * hit.t * dot(d, d);
             const double cosL = -dot(ng, d) / length(d);
             const double lightPdf = emitters_.pickProbability(hit.prim) / areas_[hit.prim] * dist2 / cosL;
@@ -130,7 +150,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const ShadingContext sc{wo, &mat, depth, depth == 0};
     SampleStream& samples = pc.samples;
     const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
-    if (useLightSampling_) {
+    if (lightSampling_) {
         samples.setDimension(vertexDim + SampleDimensions::kLight);
         L += sampleEmitter(p, ng, frame, sc, samples.get2D(), pc.stats);
     }
@@ -193,7 +213,9 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
 Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
                                 TraceStats& stats) const {
     double pick = 0, uPoint = 0;
-    const std::uint32_t prim = emitters_.pick(u.u, pick, uPoint);
+    bool isLight = false;
+    const std::uint32_t prim = emitters_.pick(u.u, pick, uPoint, isLight);
+    if (isLight) return sampleLight(scene_.lights[prim], p, ng, frame, sc, pick, stats);
     const Point2 b = sampleUniformTriangle({uPoint, u.v});
     const Triangle& t = scene_.triangles[prim];
     const Vec3 q = scene_.positions[t.v[0]] * b.u + scene_.positions[t.v[1]] * b.v +
@@ -213,6 +235,37 @@ Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& fram
     if (accel_.occluded(origin, q - origin, 0.0, 1.0 - 1e-5)) return Color(0.0);
     const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
     return f * scene_.materials[t.material].emission * (wiLocal.z * w / lightPdf);
+}
+
+// A point, spot or directional light: the one direction it arrives from, no MIS (no path can hit it).
+// Point and spot: L_r = f I cos(theta) / d^2 (times the spot's falloff); directional: L_r = f E cos(theta).
+Color PathTracer::sampleLight(const Light& light, const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, double pick,
+                              TraceStats& stats) const {
+    const bool directional = light.type == Light::Type::Directional;
+    Vec3 wi;
+    Color incident;
+    if (directional) {
+        wi = -light.direction;
+        incident = light.intensity;
+    } else {
+        const Vec3 toLight = light.position - p;
+        const double dist2 = dot(toLight, toLight);
+        if (!(dist2 > 0)) return Color(0.0);
+        wi = toLight / std::sqrt(dist2);
+        incident = light.intensity / dist2;
+        if (light.type == Light::Type::Spot) incident *= spotFalloff(dot(-wi, light.direction), light.cosInner, light.cosOuter);
+    }
+    if (isBlack(incident) || dot(wi, ng) <= 0) return Color(0.0);
+    const Vec3 wiLocal = frame.toLocal(wi);
+    if (wiLocal.z <= 0) return Color(0.0);
+    const Color f = evalPhong(*sc.material, sc.wo, wiLocal);
+    if (isBlack(f)) return Color(0.0);
+    const Vec3 origin = p + ng * epsilon_;
+    ++stats.rays;
+    const bool blocked = directional ? accel_.occluded(origin, wi, 0.0, std::numeric_limits<double>::infinity())
+                                     : accel_.occluded(origin, light.position - origin, 0.0, 1.0 - 1e-5);
+    if (blocked) return Color(0.0);
+    return f * incident * (wiLocal.z / pick);
 }
 
 }  // namespace symphong

@@ -28,21 +28,27 @@ struct TraceStats {
     std::uint64_t badSamples = 0;  ///< non-finite path contributions, discarded (counted, never written)
 };
 
-/// Uniform area sampling of emissive triangles, each chosen in proportion to its power (area x Y(Le)).
+/// Light sampling: emissive triangles (a uniform point on one) and point, spot and directional lights,
+/// one of them chosen in proportion to its power (area x Y(Le) for a triangle; 4 pi Y(I) for a point
+/// light, its cone's share of that for a spot, pi r^2 Y(E) over the scene's bounding sphere for a
+/// directional light). The triangles are left out when the path tracer does not sample them (no NEE);
+/// the lights never are, since no path can hit them.
 class EmitterSampler {
 public:
-    explicit EmitterSampler(const Scene& scene, const std::vector<double>& areas);
-    bool empty() const { return emitters_.empty(); }
-    /// Probability of picking triangle `prim` (0 if it does not emit).
+    EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withTriangles);
+    bool empty() const { return entries_.empty(); }
+    bool hasTriangles() const { return lightBase_ > 0; }
+    /// Probability of picking triangle `prim` (0 if it does not emit or triangles are left out).
     double pickProbability(std::uint32_t prim) const;
-    /// Picks an emitter triangle from u in [0,1); returns its index in Scene::triangles, its
-    /// probability, and u rescaled to [0,1) inside the chosen triangle's share (so one 2D value can
-    /// choose the triangle and, with its rescaled u, the point on it).
-    std::uint32_t pick(double u, double& probability, double& uRemapped) const;
+    /// Picks an emitter from u in [0,1): a triangle (its index in Scene::triangles) or, with `isLight`
+    /// set, a light (its index in Scene::lights); its probability; and u rescaled to [0,1) inside the
+    /// chosen one's share (so one 2D value can choose a triangle and, with its rescaled u, the point on it).
+    std::uint32_t pick(double u, double& probability, double& uRemapped, bool& isLight) const;
 
 private:
-    std::vector<std::uint32_t> emitters_;
-    std::vector<std::int32_t> slot_;  ///< triangle -> index in emitters_, or -1
+    std::vector<std::uint32_t> entries_;  ///< triangles first (indices into Scene::triangles), then lights
+    std::size_t lightBase_ = 0;           ///< entries_[i] is a light index from here on
+    std::vector<std::int32_t> slot_;      ///< triangle -> index in entries_, or -1
     Distribution1D distribution_;
 };
 
@@ -111,6 +117,9 @@ private:
     Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf,
                 const Color& throughput, PathContext& pc) const;
     Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
+    /// One point, spot or directional light's direct contribution (picked with probability `pick`).
+    Color sampleLight(const Light& light, const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, double pick,
+                      TraceStats& stats) const;
 
     const Scene& scene_;
     const Accel& accel_;
@@ -119,7 +128,8 @@ private:
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
     std::vector<double> areas_;
     EmitterSampler emitters_;
-    bool useLightSampling_;  ///< NEE + MIS: asked for, possible with this estimator, and something emits
+    bool triangleSampling_;  ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
+    bool lightSampling_;     ///< NEE at all: triangles as above, or lights (always sampled)
     double epsilon_ = 1e-4;  ///< ray offset, relative to the scene's size
 };
 

@@ -52,6 +52,72 @@ Color nonNegativeColor(const json& j, const std::string& where, const std::strin
     return c;
 }
 
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+/// One element of "lights" (docs/scene-format.md): a point, spot or directional light, or a quad light
+/// (two emissive triangles with a material of their own, named after the element).
+void addLight(Scene& scene, const json& j, const std::string& where, const std::string& path) {
+    if (!j.is_object() || !j.contains("type") || !j["type"].is_string())
+        throw InputError(fmt::format("{}: {} must be an object with a \"type\": point, spot, directional or quad", path, where));
+    const std::string type = j["type"].get<std::string>();
+    Light light;
+    if (type == "point") {
+        checkKeys(j, {"type", "position", "intensity"}, where, path);
+        light.type = Light::Type::Point;
+    } else if (type == "spot") {
+        checkKeys(j, {"type", "position", "direction", "target", "intensity", "angle", "inner"}, where, path);
+        light.type = Light::Type::Spot;
+        if (j.contains("direction") == j.contains("target"))
+            throw InputError(fmt::format("{}: {} (spot) needs exactly one of \"direction\" and \"target\"", path, where));
+        const double outer = j.contains("angle") ? number(j["angle"], where + ".angle", path) : 30.0;
+        if (!(outer > 0 && outer <= 90)) throw InputError(fmt::format("{}: {}.angle = {} must lie in (0, 90] degrees", path, where, outer));
+        const double inner = j.contains("inner") ? number(j["inner"], where + ".inner", path) : std::max(0.0, outer - 5.0);
+        if (!(inner >= 0 && inner < outer))
+            throw InputError(fmt::format("{}: {}.inner = {} must lie in [0, angle) = [0, {}) degrees", path, where, inner, outer));
+        light.cosOuter = std::cos(outer * kDegree);
+        light.cosInner = std::cos(inner * kDegree);
+    } else if (type == "directional") {
+        checkKeys(j, {"type", "direction", "irradiance"}, where, path);
+        light.type = Light::Type::Directional;
+    } else if (type == "quad") {
+        checkKeys(j, {"type", "corner", "edge1", "edge2", "radiance"}, where, path);
+        for (const char* key : {"corner", "edge1", "edge2", "radiance"})
+            if (!j.contains(key)) throw InputError(fmt::format("{}: {} (quad) needs \"{}\"", path, where, key));
+        const Vec3 c = vec3(j["corner"], where + ".corner", path), e1 = vec3(j["edge1"], where + ".edge1", path),
+                   e2 = vec3(j["edge2"], where + ".edge2", path);
+        if (length(cross(e1, e2)) == 0) throw InputError(fmt::format("{}: {} (quad): edge1 and edge2 span no area", path, where));
+        PhongMaterial m;
+        m.name = where;
+        m.rhoD = Color(0.0);
+        m.emission = nonNegativeColor(j["radiance"], where + ".radiance", path);
+        scene.materials.push_back(m);
+        const auto material = static_cast<std::uint32_t>(scene.materials.size() - 1);
+        const auto base = static_cast<std::uint32_t>(scene.positions.size());
+        for (const Vec3& v : {c, c + e1, c + e1 + e2, c + e2}) scene.positions.push_back(v);
+        scene.triangles.push_back({{base, base + 1, base + 2}, {-1, -1, -1}, material});
+        scene.triangles.push_back({{base, base + 2, base + 3}, {-1, -1, -1}, material});
+        return;
+    } else {
+        throw InputError(fmt::format("{}: {}.type '{}' is not a light type (valid: point, spot, directional, quad)", path, where, type));
+    }
+    const bool directional = light.type == Light::Type::Directional;
+    const char* power = directional ? "irradiance" : "intensity";
+    if (!j.contains(power)) throw InputError(fmt::format("{}: {} ({}) needs \"{}\"", path, where, type, power));
+    light.intensity = nonNegativeColor(j[power], where + "." + power, path);
+    if (!directional) {
+        if (!j.contains("position")) throw InputError(fmt::format("{}: {} ({}) needs \"position\"", path, where, type));
+        light.position = vec3(j["position"], where + ".position", path);
+    }
+    if (directional || light.type == Light::Type::Spot) {
+        if (j.contains("target")) light.direction = vec3(j["target"], where + ".target", path) - light.position;
+        else if (j.contains("direction")) light.direction = vec3(j["direction"], where + ".direction", path);
+        else throw InputError(fmt::format("{}: {} ({}) needs \"direction\"", path, where, type));
+        if (length(light.direction) == 0) throw InputError(fmt::format("{}: {}: the direction is zero", path, where));
+        light.direction = normalize(light.direction);
+    }
+    scene.lights.push_back(light);
+}
+
 }  // namespace
 
 Scene loadJsonScene(const std::string& path) {
@@ -73,7 +139,7 @@ Scene loadJsonScene(const std::string& path) {
         if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
         throw InputError(fmt::format("{}:{}:{}: malformed JSON: {}", path, line, byte - lineStart + 1, what));
     }
-    checkKeys(doc, {"obj", "builtin", "camera", "materials", "environment", "name"}, "the scene", path);
+    checkKeys(doc, {"obj", "builtin", "camera", "materials", "environment", "name", "lights"}, "the scene", path);
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
 
     Scene scene;
@@ -136,6 +202,11 @@ Scene loadJsonScene(const std::string& path) {
                 if (mat.exponent < 0) throw InputError(fmt::format("{}: {}.ns = {} is negative (a Phong exponent must be >= 0)", path, where, mat.exponent));
             }
         }
+    }
+
+    if (doc.contains("lights")) {
+        if (!doc["lights"].is_array()) throw InputError(fmt::format("{}: \"lights\" must be an array of lights", path));
+        for (std::size_t i = 0; i < doc["lights"].size(); ++i) addLight(scene, doc["lights"][i], fmt::format("lights[{}]", i), path);
     }
 
     const bool environmentGiven = doc.contains("environment");

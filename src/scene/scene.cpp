@@ -27,7 +27,17 @@ int Scene::findMaterial(const std::string& n) const {
     return -1;
 }
 
+const char* lightTypeName(Light::Type type) {
+    switch (type) {
+        case Light::Type::Point: return "point";
+        case Light::Type::Spot: return "spot";
+        case Light::Type::Directional: return "directional";
+    }
+    return "?";
+}
+
 bool Scene::hasEmitter() const {
+    if (!lights.empty()) return true;
     for (const Triangle& t : triangles)
         if (materials[t.material].isEmissive()) return true;
     return false;
@@ -60,6 +70,16 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
             throw InputError(fmt::format("{}: {}", source, e.what()));
         }
     }
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+        Light& l = scene.lights[i];
+        if (!isFinite(l.position) || !isFinite(l.direction) || !isFinite(l.intensity) || minComponent(l.intensity) < 0 ||
+            !std::isfinite(l.cosInner) || !std::isfinite(l.cosOuter))
+            throw InputError(fmt::format("{}: lights[{}] ({}) has a non-finite or negative value", source, i, lightTypeName(l.type)));
+        if (length(l.direction) == 0) throw InputError(fmt::format("{}: lights[{}] ({}) has a zero direction", source, i, lightTypeName(l.type)));
+        l.direction = normalize(l.direction);
+        if (l.type == Light::Type::Spot && !(l.cosOuter < l.cosInner))
+            throw InputError(fmt::format("{}: lights[{}] (spot): the inner cone must be narrower than the outer one", source, i));
+    }
     if (!isFinite(scene.environment) || minComponent(scene.environment) < 0)
         throw InputError(fmt::format("{}: environment radiance must be finite and >= 0", source));
     const Camera& c = scene.camera;
@@ -74,7 +94,7 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
     if (!scene.hasEmitter() && !environmentGiven) {
         scene.environment = Color(1.0);
         scene.warnings.push_back(fmt::format(
-            "{}: the scene has no emitter (no material with Ke > 0); lighting it with a uniform white environment "
+            "{}: the scene has no emitter (no material with Ke > 0, no light); lighting it with a uniform white environment "
             "(L = 1). Set \"environment\" in a JSON scene file to change this.",
             source));
     }

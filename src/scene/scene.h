@@ -6,6 +6,7 @@
 
 #include "materials/phong.h"
 #include "math/vec3.h"
+#include "scene/light.h"
 
 #include <array>
 #include <cstdint>
@@ -33,6 +34,7 @@ struct Scene {
     std::vector<Vec3> normals;  ///< optional smoothing normals (unit length)
     std::vector<Triangle> triangles;
     std::vector<PhongMaterial> materials;
+    std::vector<Light> lights;  ///< point, spot and directional lights (emissive triangles are materials)
     Camera camera;
     Color environment{0.0};  ///< radiance arriving from directions that leave the scene
     std::vector<std::string> warnings;
@@ -41,6 +43,7 @@ struct Scene {
     void bounds(Vec3& lo, Vec3& hi) const;
     /// Index of the material with this name, or -1.
     int findMaterial(const std::string& name) const;
+    /// Whether anything emits: an emissive material on a triangle, or a light.
     bool hasEmitter() const;
     /// A camera that frames the bounding box from the +Z side, looking down -Z with +Y up.
     Camera automaticCamera(double fovY = 40.0) const;

@@ -25,7 +25,7 @@ def test_json_naming_a_missing_obj_is_file_not_found(sym, cli, tmp_path):
 
 @pytest.mark.parametrize("name,text", [
     ("syntax.json", '{\n  "builtin": "cornell",\n  "camera": {"fov": 40,}\n}\n'),
-    ("unknown-key.json", '{"builtin": "cornell", "lights": []}\n'),
+    ("unknown-key.json", '{"builtin": "cornell", "lamps": []}\n'),
     ("bad-value.json", '{"builtin": "cornell", "materials": {"red": {"kd": [1, -1, 0]}}}\n'),
     ("face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"),
     ("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
