@@ -80,15 +80,46 @@ TEST(ObjScenes, BunnyLoadsWithTheDefaultMaterialAndAFallbackEnvironment) {
     const Scene s = loadScene(scene("bunny/stanford-bunny.obj"));
     EXPECT_EQ(s.triangles.size(), 69451u);
     EXPECT_EQ(s.materials.size(), 1u);
-    EXPECT_TRUE(anyWarningContains(s, "no emitter"));
-    EXPECT_EQ(s.environment, Color(1.0));
+    EXPECT_TRUE(anyWarningContains(s, "no light of any kind"));
+    // The default sky and its sun, and a three-quarter view (a bare model, no emissive triangles).
+    ASSERT_TRUE(s.sky.has_value());
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_EQ(s.lights[0].type, Light::Type::Directional);
+    EXPECT_LT(s.lights[0].direction.y, 0) << "the sun shines down";
+    const Vec3 view = normalize(s.camera.position - s.camera.target);
+    EXPECT_GT(view.x, 0.4);
+    EXPECT_GT(view.y, 0.2);
+    EXPECT_GT(view.z, 0.6);
+    // The sky: blue overhead, brighter at the horizon, darker below.
+    EXPECT_GT(s.environmentRadiance(Vec3(0, 1, 0)).z, s.environmentRadiance(Vec3(0, 1, 0)).x);
+    EXPECT_GT(luminance(s.environmentRadiance(Vec3(1, 0, 0))), luminance(s.environmentRadiance(Vec3(0, 1, 0))));
+    EXPECT_LT(luminance(s.environmentRadiance(Vec3(0, -1, 0))), luminance(s.environmentRadiance(Vec3(1, 0, 0))));
+    // The whole bounding sphere is in view: every corner of the box projects inside the frame.
+    Vec3 lo, hi;
+    s.bounds(lo, hi);
+    const Vec3 forward = normalize(s.camera.target - s.camera.position);
+    const double tanHalf = std::tan(0.5 * s.camera.fovY * kPi / 180.0);
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 corner(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+        const Vec3 to = corner - s.camera.position;
+        const double along = dot(to, forward);
+        EXPECT_LT(length(to - forward * along) / along, tanHalf) << "corner " << k << " is outside the view";
+    }
+}
+
+TEST(ObjScenes, AMeshWithItsOwnLightIsSeenFromTheFront) {
+    SYMPHONG_REQUIRE_SCENES_DIR();
+    const Scene s = loadScene(scene("cornell-box-mcguire/CornellBox-Original.obj"));
+    EXPECT_FALSE(s.sky.has_value());
+    const Vec3 view = normalize(s.camera.position - s.camera.target);
+    EXPECT_NEAR(view.z, 1.0, 1e-12) << "a set with light fixtures (open towards +Z) is seen from +Z";
 }
 
 TEST(ObjScenes, CornellOriginalWarnsThatNothingEmits) {
     SYMPHONG_REQUIRE_SCENES_DIR();
     const Scene s = loadScene(scene("cornell-box-original/cornell_box.obj"));
     EXPECT_EQ(s.triangles.size(), 36u);
-    EXPECT_TRUE(anyWarningContains(s, "no emitter"));
+    EXPECT_TRUE(anyWarningContains(s, "no light of any kind"));
 }
 
 TEST(ObjScenes, LenientSceneNamesItsUndefinedMaterials) {
@@ -154,7 +185,8 @@ TEST(JsonScenes, ObjRelativeToTheJsonFile) {
                                                          R"(", "environment": [0.5, 0.6, 0.7], "camera": {"position": [0, 0.1, 0.4], "target": [0, 0.1, 0]}})");
     const Scene s = loadScene(path);
     EXPECT_EQ(s.environment, Color(0.5, 0.6, 0.7));
-    EXPECT_FALSE(anyWarningContains(s, "no emitter")) << "an explicit environment is not a fallback";
+    EXPECT_FALSE(anyWarningContains(s, "no light of any kind")) << "an explicit environment is not a fallback";
+    EXPECT_FALSE(s.sky.has_value());
     EXPECT_DOUBLE_EQ(s.camera.position.z, 0.4);
 }
 

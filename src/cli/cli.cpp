@@ -225,6 +225,61 @@ int runRender(const RenderOptions& o, const MpiJob& job) {
     return 0;
 }
 
+void addInfoCommand(CLI::App& app, std::string& scene) {
+    CLI::App* i = app.add_subcommand("info", "Print what a scene file holds, as symphong loads it, without rendering.");
+    i->footer("Triangles and vertices, the bounding box, the camera (given, or the automatic one), every material with its\n"
+              "Phong parameters (rho_d, rho_s, n, emission) and how many triangles use it, the lights (point, spot,\n"
+              "directional; the default sky's sun when the scene brings no light), the environment, and the loader's warnings.\n"
+              "Texture maps are not read yet: an MTL's map_* lines are ignored.");
+    i->add_option("scene", scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
+}
+
+std::string triple(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z); }
+
+int runInfo(const std::string& spec) {
+    const Scene s = loadScene(spec);
+    for (const std::string& w : s.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
+    Vec3 lo, hi;
+    s.bounds(lo, hi);
+    std::size_t emissive = 0;
+    std::vector<std::size_t> uses(s.materials.size(), 0);
+    for (const Triangle& t : s.triangles) {
+        ++uses[t.material];
+        emissive += s.materials[t.material].isEmissive();
+    }
+    fmt::print("scene       {} (from {})\n", s.name, spec);
+    fmt::print("triangles   {} ({} emissive), {} vertices, {} shading normals\n", s.triangles.size(), emissive, s.positions.size(),
+               s.normals.size());
+    fmt::print("bounds      {} to {} (size {})\n", triple(lo), triple(hi), triple(hi - lo));
+    fmt::print("camera      position {}, target {}, up {}, vertical fov {:.4g} degrees\n", triple(s.camera.position), triple(s.camera.target),
+               triple(s.camera.up), s.camera.fovY);
+    fmt::print("materials   {}\n", s.materials.size());
+    for (std::size_t i = 0; i < s.materials.size(); ++i) {
+        const PhongMaterial& m = s.materials[i];
+        fmt::print("  {:<20} rho_d {}  rho_s {}  n {:.6g}  emission {}  ({} triangles)\n", "'" + m.name + "'", triple(m.rhoD), triple(m.rhoS),
+                   m.exponent, triple(m.emission), uses[i]);
+    }
+    fmt::print("lights      {}\n", s.lights.size());
+    for (const Light& l : s.lights) {
+        switch (l.type) {
+            case Light::Type::Point: fmt::print("  point       position {}, intensity {}\n", triple(l.position), triple(l.intensity)); break;
+            case Light::Type::Spot:
+                fmt::print("  spot        position {}, direction {}, intensity {}, cone {:.4g} to {:.4g} degrees\n", triple(l.position),
+                           triple(l.direction), triple(l.intensity), std::acos(l.cosInner) * 180 / kPi, std::acos(l.cosOuter) * 180 / kPi);
+                break;
+            case Light::Type::Directional:
+                fmt::print("  directional direction {}, irradiance {}\n", triple(l.direction), triple(l.intensity));
+                break;
+        }
+    }
+    if (s.sky) fmt::print("environment default sky: zenith {}, horizon {}, ground {}\n", triple(s.sky->zenith), triple(s.sky->horizon), triple(s.sky->ground));
+    else fmt::print("environment constant radiance {}\n", triple(s.environment));
+    fmt::print("textures    none (texture maps are not read yet)\n");
+    fmt::print("warnings    {}\n", s.warnings.size());
+    for (const std::string& w : s.warnings) fmt::print("  {}\n", w);
+    return 0;
+}
+
 struct FurnaceOptions {
     FurnaceTable table;  ///< the options bind to its fields; lists and --grid fill the rest
     std::string estimators = "all";
@@ -398,6 +453,8 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
     addFurnaceCommand(app, furnaceOptions);
     StudyOptions studyOptions;
     addStudyCommand(app, studyOptions);
+    std::string infoScene = "cornell";
+    addInfoCommand(app, infoScene);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -416,6 +473,7 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
     try {
         if (app.got_subcommand("render")) return runRender(renderOptions, job);
         if (app.got_subcommand("study")) return runStudyCommand(studyOptions, job);
+        if (app.got_subcommand("info")) return job.root() ? runInfo(infoScene) : 0;
         // The furnace is not shared among ranks (its estimates take seconds): rank 0 runs it alone.
         if (!job.root()) return 0;
         if (job.size() > 1) fmt::print(stderr, "symphong: warning: 'furnace' does not share its work among MPI ranks; rank 0 runs it alone\n");

@@ -510,6 +510,37 @@ Scene(spec) is load_scene(spec). The acceleration structure is built on the firs
             py::arg("width"), py::arg("height"),
             "(H, W) int64: the triangle that the camera ray through each pixel's centre hits first (-1: none), as render()\n"
             "frames a width x height image. For masks of surfaces when comparing images region by region.")
+        .def_property_readonly(
+            "lights",
+            [](const PyScene& s) {
+                py::list out;
+                for (const Light& l : s.scene().lights) {
+                    py::dict d;
+                    d["type"] = lightTypeName(l.type);
+                    d["position"] = py::make_tuple(l.position.x, l.position.y, l.position.z);
+                    d["direction"] = py::make_tuple(l.direction.x, l.direction.y, l.direction.z);
+                    d["intensity"] = py::make_tuple(l.intensity.x, l.intensity.y, l.intensity.z);
+                    d["cos_inner"] = l.cosInner;
+                    d["cos_outer"] = l.cosOuter;
+                    out.append(d);
+                }
+                return out;
+            },
+            "list of dicts: type (point, spot, directional), position, direction, intensity (irradiance for a directional\n"
+            "light), cos_inner, cos_outer (spot cones); the default sky's sun is one")
+        .def_property_readonly(
+            "sky",
+            [](const PyScene& s) -> py::object {
+                if (!s.scene().sky) return py::none();
+                const Sky& k = *s.scene().sky;
+                py::dict d;
+                d["zenith"] = py::make_tuple(k.zenith.x, k.zenith.y, k.zenith.z);
+                d["horizon"] = py::make_tuple(k.horizon.x, k.horizon.y, k.horizon.z);
+                d["ground"] = py::make_tuple(k.ground.x, k.ground.y, k.ground.z);
+                d["up"] = py::make_tuple(k.up.x, k.up.y, k.up.z);
+                return d;
+            },
+            "the default sky (dict: zenith, horizon, ground, up) when the scene brought no light of its own, else None")
         .def_property_readonly("has_emitter", [](const PyScene& s) { return s.scene().hasEmitter(); })
         .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; }, "the loader's non-fatal notes")
         .def("__repr__", [](const PyScene& s) {

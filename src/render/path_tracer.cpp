@@ -115,7 +115,7 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_
 
 Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int depth, std::uint64_t path, double prevMisPdf,
                         const Color& throughput, PathContext& pc) const {
-    if (!found) return scene_.environment;
+    if (!found) return scene_.sky ? skyRadiance(*scene_.sky, normalize(d)) : scene_.environment;
     const Hit& hit = *found;
     const Triangle& tri = scene_.triangles[hit.prim];
     const PhongMaterial& mat = scene_.materials[tri.material];

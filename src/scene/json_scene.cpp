@@ -169,15 +169,9 @@ Scene loadJsonScene(const std::string& path) {
         scene.name = doc["name"].get<std::string>();
     }
 
-    if (doc.contains("camera")) {
-        const json& c = doc["camera"];
-        checkKeys(c, {"position", "target", "up", "fov"}, "\"camera\"", path);
-        Camera cam = cameraFromData ? scene.camera : scene.automaticCamera();
-        if (c.contains("position")) cam.position = vec3(c["position"], "camera.position", path);
-        if (c.contains("target")) cam.target = vec3(c["target"], "camera.target", path);
-        if (c.contains("up")) cam.up = vec3(c["up"], "camera.up", path);
-        if (c.contains("fov")) cam.fovY = number(c["fov"], "camera.fov", path);
-        scene.camera = cam;
+    if (doc.contains("lights")) {
+        if (!doc["lights"].is_array()) throw InputError(fmt::format("{}: \"lights\" must be an array of lights", path));
+        for (std::size_t i = 0; i < doc["lights"].size(); ++i) addLight(scene, doc["lights"][i], fmt::format("lights[{}]", i), path);
     }
 
     if (doc.contains("materials")) {
@@ -204,9 +198,16 @@ Scene loadJsonScene(const std::string& path) {
         }
     }
 
-    if (doc.contains("lights")) {
-        if (!doc["lights"].is_array()) throw InputError(fmt::format("{}: \"lights\" must be an array of lights", path));
-        for (std::size_t i = 0; i < doc["lights"].size(); ++i) addLight(scene, doc["lights"][i], fmt::format("lights[{}]", i), path);
+    // After the lights and materials: the automatic camera depends on whether anything emits.
+    if (doc.contains("camera")) {
+        const json& c = doc["camera"];
+        checkKeys(c, {"position", "target", "up", "fov"}, "\"camera\"", path);
+        Camera cam = cameraFromData ? scene.camera : scene.automaticCamera();
+        if (c.contains("position")) cam.position = vec3(c["position"], "camera.position", path);
+        if (c.contains("target")) cam.target = vec3(c["target"], "camera.target", path);
+        if (c.contains("up")) cam.up = vec3(c["up"], "camera.up", path);
+        if (c.contains("fov")) cam.fovY = number(c["fov"], "camera.fov", path);
+        scene.camera = cam;
     }
 
     const bool environmentGiven = doc.contains("environment");

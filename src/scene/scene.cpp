@@ -49,8 +49,14 @@ Camera Scene::automaticCamera(double fovY) const {
     const Vec3 center = 0.5 * (lo + hi);
     const double radius = std::max(1e-6, 0.5 * length(hi - lo));
     const double distance = radius / std::sin(0.5 * fovY * kPi / 180.0);
+    // Three-quarter: 35 degrees round from +Z towards +X, 20 degrees above the horizontal.
+    const double azimuth = 35.0 * kPi / 180.0, elevation = 20.0 * kPi / 180.0;
+    bool emissiveTriangles = false;
+    for (const Triangle& t : triangles) emissiveTriangles = emissiveTriangles || materials[t.material].isEmissive();
+    const Vec3 from = emissiveTriangles ? Vec3(0, 0, 1)
+                                   : Vec3(std::sin(azimuth) * std::cos(elevation), std::sin(elevation), std::cos(azimuth) * std::cos(elevation));
     Camera c;
-    c.position = center + Vec3(0, 0, distance);
+    c.position = center + from * distance;
     c.target = center;
     c.up = Vec3(0, 1, 0);
     c.fovY = fovY;
@@ -92,10 +98,12 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
     if (length(cross(c.target - c.position, c.up)) == 0)
         throw InputError(fmt::format("{}: camera up vector is parallel to the viewing direction", source));
     if (!scene.hasEmitter() && !environmentGiven) {
-        scene.environment = Color(1.0);
+        scene.sky = Sky{};
+        scene.lights.push_back(defaultSun());
         scene.warnings.push_back(fmt::format(
-            "{}: the scene has no emitter (no material with Ke > 0, no light); lighting it with a uniform white environment "
-            "(L = 1). Set \"environment\" in a JSON scene file to change this.",
+            "{}: the scene has no light of any kind (no material with Ke > 0, no light, no environment); lighting it with "
+            "the default sky (white at the horizon, blue at the zenith, grey ground) and a sun from above the viewer's left "
+            "(irradiance 1.6). Set \"environment\" or \"lights\" in a JSON scene file to change this.",
             source));
     }
 }

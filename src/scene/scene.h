@@ -7,9 +7,11 @@
 #include "materials/phong.h"
 #include "math/vec3.h"
 #include "scene/light.h"
+#include "scene/sky.h"
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,7 @@ struct Scene {
     std::vector<Light> lights;  ///< point, spot and directional lights (emissive triangles are materials)
     Camera camera;
     Color environment{0.0};  ///< radiance arriving from directions that leave the scene
+    std::optional<Sky> sky;  ///< when set, rays that leave the scene see the sky instead of `environment`
     std::vector<std::string> warnings;
 
     /// Axis-aligned bounds of the positions.
@@ -45,8 +48,12 @@ struct Scene {
     int findMaterial(const std::string& name) const;
     /// Whether anything emits: an emissive material on a triangle, or a light.
     bool hasEmitter() const;
-    /// A camera that frames the bounding box from the +Z side, looking down -Z with +Y up.
+    /// A camera for a scene that gives none, framing its bounding sphere: a mesh with emissive triangles
+    /// is a set with its own light fixtures (a Cornell box, open towards +Z by convention) and is seen
+    /// from the +Z side; any other from a three-quarter view (from +X+Z, 20 degrees above), +Y up.
     Camera automaticCamera(double fovY = 40.0) const;
+    /// Radiance arriving along unit direction d from outside the scene.
+    Color environmentRadiance(const Vec3& d) const { return sky ? skyRadiance(*sky, d) : environment; }
 };
 
 /// The built-in Cornell box: the original Cornell geometry (0..556 units, the 130 x 105 light just

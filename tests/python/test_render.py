@@ -101,8 +101,9 @@ def test_scene_attributes(sym, shared_scenes):
     assert "32 triangles" in repr(scene)
     bunny = sym.Scene(str(shared_scenes / "bunny" / "stanford-bunny.obj"))
     assert bunny.triangle_count > 1000
-    assert not bunny.has_emitter and max(bunny.environment) > 0
-    assert any("environment" in w for w in bunny.warnings), bunny.warnings
+    assert bunny.sky is not None and scene.sky is None, "a bare model gets the default sky"
+    assert [l["type"] for l in bunny.lights] == ["directional"] and bunny.lights[0]["direction"][1] < 0, "and its sun"
+    assert any("default sky" in w for w in bunny.warnings), bunny.warnings
 
 
 def test_names(sym):
