@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 packages=(
   cmake ninja-build g++ pkg-config
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
-  nlohmann-json3-dev libcli11-dev libfmt-dev libpcg-cpp-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libpcg-cpp-dev libassimp-dev
   libgtest-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin
   python3-matplotlib

@@ -86,14 +86,15 @@ std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const 
 void addRenderCommand(CLI::App& app, RenderOptions& o) {
     CLI::App* r = app.add_subcommand("render", "Render a scene to a PNG or OpenEXR image with the path tracer.");
     r->footer(
-        "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), or a .json scene file.\n"
+        "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), a .gltf, .glb, .ply,\n"
+        ".fbx, .dae or .3ds file (read through Assimp, with its camera and lights), or a .json scene file.\n"
         "PNG output is 8-bit sRGB: linear radiance is multiplied by --exposure, clamped to [0,1], then sRGB-encoded.\n"
         "EXR output is linear RGB, 32-bit float (16-bit half with --exr-half).\n"
         "The same --seed gives the same image, bit for bit, at any --threads, with every sampler.\n"
         "Under 'mpirun -np N' the N processes share the image (the same bytes) and rank 0 writes it (docs/cluster.md).\n\n"
         "Estimators:\n" +
         estimatorHelp() + "\n\nSamplers (every random decision of a render draws from the sampler):\n" + samplerHelp());
-    r->add_option("scene", o.scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
+    r->add_option("scene", o.scene, "cornell, FILE.obj, FILE.gltf/.glb/.ply/.fbx/.dae/.3ds or FILE.json")->capture_default_str();
     r->add_option("--estimator,-e", o.estimator, "reflected-radiance estimator: " + fmt::format("{}", fmt::join(estimatorNames(), ", ")))
         ->capture_default_str();
     addSamplerOption(r, o.sampler);
@@ -231,7 +232,7 @@ void addInfoCommand(CLI::App& app, std::string& scene) {
               "Phong parameters (rho_d, rho_s, n, emission) and how many triangles use it, the lights (point, spot,\n"
               "directional; the default sky's sun when the scene brings no light), the environment, and the loader's warnings.\n"
               "Texture maps are not read yet: an MTL's map_* lines are ignored.");
-    i->add_option("scene", scene, "cornell, FILE.obj or FILE.json")->capture_default_str();
+    i->add_option("scene", scene, "cornell, FILE.obj, FILE.gltf/.glb/.ply/.fbx/.dae/.3ds or FILE.json")->capture_default_str();
 }
 
 std::string triple(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z); }

@@ -139,23 +139,31 @@ Scene loadJsonScene(const std::string& path) {
         if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
         throw InputError(fmt::format("{}:{}:{}: malformed JSON: {}", path, line, byte - lineStart + 1, what));
     }
-    checkKeys(doc, {"obj", "builtin", "camera", "materials", "environment", "name", "lights"}, "the scene", path);
+    checkKeys(doc, {"obj", "mesh", "builtin", "camera", "materials", "environment", "name", "lights"}, "the scene", path);
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
 
     Scene scene;
-    if (doc.contains("obj") == doc.contains("builtin"))
-        throw InputError(fmt::format("{}: give exactly one of \"obj\" (a path) or \"builtin\": \"cornell\"", path));
+    if (doc.contains("obj") + doc.contains("mesh") + doc.contains("builtin") != 1)
+        throw InputError(fmt::format("{}: give exactly one of \"obj\" or \"mesh\" (a path) or \"builtin\": \"cornell\"", path));
     bool cameraFromData = false;
-    if (doc.contains("obj")) {
-        if (!doc["obj"].is_string()) throw InputError(fmt::format("{}: \"obj\" must be a string path", path));
-        std::filesystem::path obj = doc["obj"].get<std::string>();
-        if (obj.is_relative()) obj = dir / obj;
+    if (doc.contains("obj") || doc.contains("mesh")) {
+        const char* key = doc.contains("obj") ? "obj" : "mesh";
+        if (!doc[key].is_string()) throw InputError(fmt::format("{}: \"{}\" must be a string path", path, key));
+        std::filesystem::path file = doc[key].get<std::string>();
+        if (file.is_relative()) file = dir / file;
+        std::string ext = file.extension().string();
+        for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+        if (std::string(key) == "mesh" && ext != ".obj" && !isAssimpExtension(file.string()))
+            throw InputError(fmt::format("{}: \"mesh\": {}: not a format symphong reads (.obj, .gltf, .glb, .ply, .fbx, .dae, .3ds)", path,
+                                         file.string()));
         try {
-            scene = loadObj(obj.string());
+            scene = ext == ".obj" ? loadObj(file.string()) : loadAssimp(file.string());
+            // A camera from the file (glTF, FBX, Collada) is the scene's own, as the built-in box's.
+            cameraFromData = ext != ".obj";
         } catch (const MissingFileError& e) {
-            throw MissingFileError(fmt::format("{}: \"obj\": {}", path, e.what()));
+            throw MissingFileError(fmt::format("{}: \"{}\": {}", path, key, e.what()));
         } catch (const InputError& e) {
-            throw InputError(fmt::format("{}: \"obj\": {}", path, e.what()));
+            throw InputError(fmt::format("{}: \"{}\": {}", path, key, e.what()));
         }
     } else {
         if (doc["builtin"] != "cornell")

@@ -108,6 +108,14 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
     }
 }
 
+bool isAssimpExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    for (const char* e : {".gltf", ".glb", ".ply", ".fbx", ".dae", ".3ds"})
+        if (ext == e) return true;
+    return false;
+}
+
 Scene loadScene(const std::string& spec) {
     if (spec == "cornell") {
         Scene s = makeCornellBox();
@@ -123,7 +131,12 @@ Scene loadScene(const std::string& spec) {
         return s;
     }
     if (ext == ".json") return loadJsonScene(spec);
-    throw InputError(fmt::format("{}: unknown scene (expected 'cornell', a .obj file or a .json scene file)", spec));
+    if (isAssimpExtension(spec)) {
+        Scene s = loadAssimp(spec);
+        finalizeScene(s, spec, false);
+        return s;
+    }
+    throw InputError(fmt::format("{}: unknown scene (expected 'cornell', a .obj, .gltf, .glb, .ply, .fbx, .dae or .3ds file, or a .json scene file)", spec));
 }
 
 }  // namespace symphong

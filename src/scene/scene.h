@@ -60,12 +60,20 @@ struct Scene {
 /// under the ceiling), red left wall, green right wall, and a glossy Phong tall block.
 Scene makeCornellBox();
 
-/// Loads a scene from a spec: "cornell" (built-in), a path ending in .obj, or a path ending in .json.
+/// Loads a scene from a spec: "cornell" (built-in), a path ending in .obj, .json, or one of Assimp's
+/// formats (.gltf, .glb, .ply, .fbx, .dae, .3ds).
 /// Throws InputError on every problem; collects non-fatal notes in Scene::warnings.
 Scene loadScene(const std::string& spec);
 
 /// Wavefront OBJ with its MTL. Validates the file line by line before handing it to tinyobjloader.
 Scene loadObj(const std::string& path);
+
+/// A mesh file in a format other than OBJ, read through Assimp: glTF 2.0 (.gltf, .glb), PLY, FBX,
+/// Collada (.dae), 3DS (scene/assimp_loader.cpp). Its first camera and its lights are kept.
+Scene loadAssimp(const std::string& path);
+
+/// Whether a file name's extension is one loadScene reads through Assimp.
+bool isAssimpExtension(const std::string& path);
 
 /// JSON scene file; see docs/scene-format.md.
 Scene loadJsonScene(const std::string& path);

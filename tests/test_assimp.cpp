@@ -1,0 +1,179 @@
+// Formats through Assimp (scene/assimp_loader.cpp): the classic Cornell box written by Assimp's own
+// exporters as glTF (.gltf, .glb), Collada, PLY and 3DS loads with the OBJ's geometry; where the
+// format keeps material names, a JSON scene naming it as "mesh" renders the OBJ's mean radiance within
+// statistics; a hand-written glTF checks the material table (metallic-roughness), the emissive
+// strength, the camera and a punctual light; bad files are bad input.
+#include "stats.h"
+#include "test_util.h"
+
+#include "io/input_error.h"
+#include "study/metrics.h"
+
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace symphong;
+
+namespace {
+
+const std::string kClassic = std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-classic.obj";
+
+/// Writes the classic box through Assimp's exporter `format` into `dir`; returns the file's path.
+std::string exportClassic(const test::TempDir& dir, const char* format, const char* extension) {
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(kClassic, aiProcess_Triangulate);
+    EXPECT_NE(scene, nullptr) << importer.GetErrorString();
+    Assimp::Exporter exporter;
+    const std::string out = dir.file(std::string("classic.") + extension);
+    EXPECT_EQ(exporter.Export(scene, format, out), AI_SUCCESS) << exporter.GetErrorString();
+    return out;
+}
+
+double meanLuminance(const RenderResult& r, double& stdError) {
+    double m = 0, v = 0;
+    for (std::size_t i = 0; i < r.image.pixels.size(); ++i) m += luminance(r.image.pixels[i]), v += luminanceVariance(r.variance.pixels[i]);
+    const double n = static_cast<double>(r.image.pixels.size());
+    stdError = std::sqrt(v) / n;
+    return m / n;
+}
+
+RenderResult renderSmall(const Scene& s) {
+    const Accel accel(s);
+    const auto est = makeEstimator("cosine");
+    RenderSettings rs;
+    rs.width = rs.height = 32;
+    rs.spp = 64;
+    rs.seed = 4;
+    rs.sampler = "independent";
+    return render(s, accel, *est, rs);
+}
+
+}  // namespace
+
+TEST(Assimp, ExportedFormatsLoadWithTheObjGeometry) {
+    test::TempDir dir;
+    const Scene obj = loadScene(kClassic);
+    Vec3 lo0, hi0;
+    obj.bounds(lo0, hi0);
+    for (const auto& [format, ext] : {std::pair{"glb2", "glb"}, std::pair{"gltf2", "gltf"}, std::pair{"collada", "dae"},
+                                      std::pair{"ply", "ply"}, std::pair{"3ds", "3ds"}}) {
+        // (Not FBX: Assimp 5.2 cannot read back the FBX its own exporter writes: "FBX-Tokenize ... block
+        // offset is out of range".)
+        const std::string file = exportClassic(dir, format, ext);
+        const Scene s = loadScene(file);
+        EXPECT_EQ(s.triangles.size(), obj.triangles.size()) << file;
+        Vec3 lo, hi;
+        s.bounds(lo, hi);
+        if (std::string(ext) == "3ds") {
+            // 3DS is z-up: Assimp's exporter turns the y-up box about the x axis. The extents remain.
+            const Vec3 e = hi - lo, e0 = hi0 - lo0;
+            std::array<double, 3> a{e.x, e.y, e.z}, b{e0.x, e0.y, e0.z};
+            std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
+            for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-3) << file << ": the box's extents changed";
+        } else {
+            EXPECT_LT(length(lo - lo0) + length(hi - hi0), 1e-3) << file << ": the bounding box moved";
+        }
+        double area = 0, area0 = 0;
+        for (const Scene* sc : {&s, &obj})
+            for (const Triangle& t : sc->triangles)
+                (sc == &s ? area : area0) += 0.5 * length(cross(sc->positions[t.v[1]] - sc->positions[t.v[0]], sc->positions[t.v[2]] - sc->positions[t.v[0]]));
+        EXPECT_NEAR(area, area0, 1e-6 * area0) << file << ": the surface area differs";
+    }
+}
+
+// Formats that keep material names: a JSON scene sets the OBJ's materials (the exporters turn Phong
+// into their own models) and the OBJ's camera, and renders the OBJ's mean radiance.
+TEST(Assimp, JsonMeshRendersTheSameMeanRadianceAsTheObj) {
+    test::TempDir dir;
+    const std::string materials = R"("materials": {
+      "white": {"kd": [0.725, 0.71, 0.68], "ks": 0, "ns": 1, "ke": 0},
+      "red": {"kd": [0.63, 0.065, 0.05], "ks": 0, "ns": 1, "ke": 0},
+      "green": {"kd": [0.14, 0.45, 0.091], "ks": 0, "ns": 1, "ke": 0},
+      "light": {"kd": 0, "ks": 0, "ns": 1, "ke": [17, 12, 4]}},
+    "camera": {"position": [278, 273, -800], "target": [278, 273, 0], "up": [0, 1, 0], "fov": 39.3}, "environment": 0)";
+    double se0 = 0;
+    const double mean0 = meanLuminance(renderSmall(loadScene(std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-classic.json")), se0);
+    for (const auto& [format, ext] : {std::pair{"glb2", "glb"}, std::pair{"collada", "dae"}}) {
+        const std::string file = exportClassic(dir, format, ext);
+        const std::string json = dir.write(std::string("via-") + ext + ".json", std::string(R"({"mesh": "classic.)") + ext + R"(", )" + materials + "}");
+        const Scene s = loadScene(json);
+        double se = 0;
+        const double mean = meanLuminance(renderSmall(s), se);
+        EXPECT_LT(std::abs(mean - mean0), 4 * std::sqrt(se * se + se0 * se0)) << file << ": " << mean << " against the OBJ's " << mean0;
+        EXPECT_LT(se, 0.02 * mean);
+    }
+}
+
+// A glTF written by hand: one triangle with a metallic-roughness material (base 0.8/0.6/0.4, metallic
+// 0.25, roughness 0.5), emissive (1, 0.5, 0) at strength 4, a camera with yfov 0.6 rad at (0, 1, 5)
+// and a punctual point light of intensity 10 at (0, 3, 0).
+TEST(Assimp, GltfMaterialCameraAndLightFollowTheTable) {
+    test::TempDir dir;
+    const std::string gltf = dir.write("tri.gltf", R"({
+  "asset": {"version": "2.0"},
+  "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength"],
+  "scene": 0,
+  "scenes": [{"nodes": [0, 1, 2]}],
+  "nodes": [
+    {"mesh": 0},
+    {"camera": 0, "translation": [0, 1, 5]},
+    {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0, 3, 0]}
+  ],
+  "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "aspectRatio": 1.5, "znear": 0.1}}],
+  "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "color": [1, 1, 1], "intensity": 10}]}},
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+  "materials": [{"name": "metal", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1], "metallicFactor": 0.25, "roughnessFactor": 0.5},
+                 "emissiveFactor": [1, 0.5, 0], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}}],
+  "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/"}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, -1], "max": [1, 0, 0]}]
+})");
+    const Scene s = loadScene(gltf);
+    ASSERT_EQ(s.triangles.size(), 1u);
+    const PhongMaterial& m = s.materials[s.triangles[0].material];
+    EXPECT_EQ(m.name, "metal");
+    EXPECT_NEAR(m.rhoD.x, 0.8 * 0.75, 1e-6);
+    EXPECT_NEAR(m.rhoD.z, 0.4 * 0.75, 1e-6);
+    EXPECT_NEAR(m.rhoS.x, 0.04 * 0.75 + 0.8 * 0.25, 1e-6);
+    EXPECT_NEAR(m.exponent, 2.0 / std::pow(0.25, 2) - 2.0, 1e-3);  // alpha = roughness^2 = 0.25
+    EXPECT_NEAR(m.emission.x, 4.0, 1e-6);
+    EXPECT_NEAR(m.emission.y, 2.0, 1e-6);
+    EXPECT_NEAR(s.camera.position.y, 1.0, 1e-6);
+    EXPECT_NEAR(s.camera.position.z, 5.0, 1e-6);
+    EXPECT_LT(s.camera.target.z, s.camera.position.z) << "a glTF camera looks down its -z";
+    EXPECT_NEAR(s.camera.fovY, 0.6 * 180 / kPi, 0.01) << "the file's vertical field of view";
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_EQ(s.lights[0].type, Light::Type::Point);
+    EXPECT_NEAR(s.lights[0].position.y, 3.0, 1e-6);
+    EXPECT_GT(s.lights[0].intensity.x, 0);
+}
+
+TEST(Assimp, BadFilesAreBadInput) {
+    test::TempDir dir;
+    EXPECT_THROW(loadScene(dir.file("missing.glb")), MissingFileError);
+    const std::string junk = dir.write("junk.glb", "this is not a glTF binary");
+    try {
+        loadScene(junk);
+        ADD_FAILURE() << "accepted a junk .glb";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(junk), std::string::npos) << e.what();
+    }
+    const std::string empty = dir.write("empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
+    EXPECT_THROW(loadScene(empty), InputError);
+    const std::string json = dir.write("bad.json", R"({"mesh": "model.xyz"})");
+    try {
+        loadScene(json);
+        ADD_FAILURE() << "accepted a .xyz mesh";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("not a format symphong reads"), std::string::npos) << e.what();
+    }
+}
