@@ -38,14 +38,6 @@ std::string exportClassic(const test::TempDir& dir, const char* format, const ch
     return out;
 }
 
-double meanLuminance(const RenderResult& r, double& stdError) {
-    double m = 0, v = 0;
-    for (std::size_t i = 0; i < r.image.pixels.size(); ++i) m += luminance(r.image.pixels[i]), v += luminanceVariance(r.variance.pixels[i]);
-    const double n = static_cast<double>(r.image.pixels.size());
-    stdError = std::sqrt(v) / n;
-    return m / n;
-}
-
 RenderResult renderSmall(const Scene& s) {
     const Accel accel(s);
     const auto est = makeEstimator("cosine");
@@ -100,14 +92,12 @@ TEST(Assimp, JsonMeshRendersTheSameMeanRadianceAsTheObj) {
       "green": {"kd": [0.14, 0.45, 0.091], "ks": 0, "ns": 1, "ke": 0},
       "light": {"kd": 0, "ks": 0, "ns": 1, "ke": [17, 12, 4]}},
     "camera": {"position": [278, 273, -800], "target": [278, 273, 0], "up": [0, 1, 0], "fov": 39.3}, "environment": 0)";
-    double se0 = 0;
-    const double mean0 = meanLuminance(renderSmall(loadScene(std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-classic.json")), se0);
+    const auto [mean0, se0] = test::imageMeanAndError(renderSmall(loadScene(std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-classic.json")));
     for (const auto& [format, ext] : {std::pair{"glb2", "glb"}, std::pair{"collada", "dae"}}) {
         const std::string file = exportClassic(dir, format, ext);
         const std::string json = dir.write(std::string("via-") + ext + ".json", std::string(R"({"mesh": "classic.)") + ext + R"(", )" + materials + "}");
         const Scene s = loadScene(json);
-        double se = 0;
-        const double mean = meanLuminance(renderSmall(s), se);
+        const auto [mean, se] = test::imageMeanAndError(renderSmall(s));
         EXPECT_LT(std::abs(mean - mean0), 4 * std::sqrt(se * se + se0 * se0)) << file << ": " << mean << " against the OBJ's " << mean0;
         EXPECT_LT(se, 0.02 * mean);
     }

@@ -59,12 +59,7 @@ struct Rect {
     bool contains(double x, double z) const { return x >= x0 && x <= x1 && z >= z0 && z <= z1; }
 };
 
-void addQuad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t material) {
-    const auto base = static_cast<std::uint32_t>(s.positions.size());
-    for (const Vec3& v : {a, b, c, d}) s.positions.push_back(v);
-    s.triangles.push_back({{base, base + 1, base + 2}, {-1, -1, -1}, material});
-    s.triangles.push_back({{base, base + 2, base + 3}, {-1, -1, -1}, material});
-}
+using test::addQuad;
 
 /// A grey diffuse floor (y = 0) under a square emitter facing down (y = kLightY), optionally with a
 /// black square occluder between them (y = kOccluderY); the camera, below the emitter, looks down at

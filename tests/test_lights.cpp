@@ -21,12 +21,7 @@ namespace {
 
 constexpr double kAlbedo = 0.6, kFloor = 20.0;
 
-void addQuad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t material) {
-    const auto base = static_cast<std::uint32_t>(s.positions.size());
-    for (const Vec3& v : {a, b, c, d}) s.positions.push_back(v);
-    s.triangles.push_back({{base, base + 1, base + 2}, {-1, -1, -1}, material});
-    s.triangles.push_back({{base, base + 2, base + 3}, {-1, -1, -1}, material});
-}
+using test::addQuad;
 
 /// A grey diffuse floor (y = 0, material 0) seen from above at an angle, and a black material 1 for
 /// occluders; the scene's lights are added by the test.
@@ -284,11 +279,7 @@ TEST(Lights, LightsAddUp) {
         rs.sampler = "independent";
         rs.trace.maxDepth = 1;
         rs.trace.nextEvent = nee;
-        const RenderResult r = render(s, accel, *est, rs);
-        double m = 0, v = 0;
-        for (std::size_t i = 0; i < r.image.pixels.size(); ++i) m += luminance(r.image.pixels[i]), v += luminanceVariance(r.variance.pixels[i]);
-        const double n = static_cast<double>(r.image.pixels.size());
-        return std::pair{m / n, std::sqrt(v) / n};
+        return test::imageMeanAndError(render(s, accel, *est, rs));
     };
     for (bool nee : {true, false}) {
         const auto [a, ea] = mean(all, nee);

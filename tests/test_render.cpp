@@ -335,12 +335,7 @@ TEST(Render, CancellingAfterKTilesStopsThere) {
 namespace {
 
 /// A quad (two triangles) with corners a, b, c, d counter-clockwise as seen from the side it faces.
-void addQuad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t material) {
-    const auto base = static_cast<std::uint32_t>(s.positions.size());
-    for (const Vec3& p : {a, b, c, d}) s.positions.push_back(p);
-    s.triangles.push_back({{base, base + 1, base + 2}, {-1, -1, -1}, material});
-    s.triangles.push_back({{base, base + 2, base + 3}, {-1, -1, -1}, material});
-}
+using test::addQuad;
 
 /// Material 0 emits Le = 1 (and reflects nothing); material 1 is white diffuse.
 Scene emitterScene() {

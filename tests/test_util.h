@@ -7,13 +7,16 @@
 #include "estimators/estimator.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "study/metrics.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace symphong::test {
@@ -83,6 +86,24 @@ inline Scene makeFurnaceSphere(double le, double albedo, int stacks = 16, int sl
     s.camera.up = Vec3(0, 1, 0);
     s.camera.fovY = 90;
     return s;
+}
+
+/// Two triangles (a, b, c) and (a, c, d) of `material`: a planar quad whose front faces along
+/// cross(b - a, c - a) (an emitter emits on that side).
+inline void addQuad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t material) {
+    const auto base = static_cast<std::uint32_t>(s.positions.size());
+    for (const Vec3& v : {a, b, c, d}) s.positions.push_back(v);
+    s.triangles.push_back({{base, base + 1, base + 2}, {-1, -1, -1}, material});
+    s.triangles.push_back({{base, base + 2, base + 3}, {-1, -1, -1}, material});
+}
+
+/// A render's mean luminance over the whole image and its standard error (pixels are independent
+/// under the independent sampler, so the variances of their means add).
+inline std::pair<double, double> imageMeanAndError(const RenderResult& r) {
+    double m = 0, v = 0;
+    for (std::size_t i = 0; i < r.image.pixels.size(); ++i) m += luminance(r.image.pixels[i]), v += luminanceVariance(r.variance.pixels[i]);
+    const double n = static_cast<double>(r.image.pixels.size());
+    return {m / n, std::sqrt(v) / n};
 }
 
 inline RenderResult renderTiny(const Scene& scene, const std::string& estimator, int size, std::uint32_t spp,
