@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Sets symphong up on Debian 12: installs the Debian packages it needs (only those missing, with
-# apt-get, as root or through sudo; python3-matplotlib draws the plots of `symphong study`; pybind11,
+# apt-get, as root or through sudo; libstb-dev decodes PNG/JPEG/HDR textures; python3-matplotlib draws the plots of `symphong study`; pybind11,
 # python3-dev, NumPy and pytest build and test the Python module; Open MPI runs a render across
 # processes or machines) and builds the Release preset into
 # build/release (the program build/release/symphong, the module in build/release/python).
@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 packages=(
   cmake ninja-build g++ pkg-config
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
-  nlohmann-json3-dev libcli11-dev libfmt-dev libpcg-cpp-dev libassimp-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libpcg-cpp-dev libassimp-dev libstb-dev
   libgtest-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin
   python3-matplotlib

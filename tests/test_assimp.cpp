@@ -167,3 +167,85 @@ TEST(Assimp, BadFilesAreBadInput) {
         EXPECT_NE(std::string(e.what()).find("not a format symphong reads"), std::string::npos) << e.what();
     }
 }
+
+// tests/data/fbx/box.fbx, written by scripts/make-test-fbx.py (we cannot use Assimp's FBX exporter, above):
+// an ASCII FBX 7.4 file, y up, UnitScaleFactor 100 (one unit = 1 m; Assimp 5.2 keeps the coordinates as
+// written). A closed box from (0, 0, 0) to (2, 1, 3) of 6 quads wound outwards, with a normal per
+// corner; the top (y = 1) quad of material "lamp" (EmissiveColor 5, diffuse and specular 0, exponent 1),
+// the other five of "white" (DiffuseColor 0.7, SpecularColor 0.2, ShininessExponent 20), every *Factor 1.
+// A camera at (1, 0.5, 10) turned 90 degrees about +y: an FBX camera looks along its node's +x, so it
+// looks along -z at the box; FieldOfView 60 degrees, horizontal (ApertureMode 1), aspect 640 / 480. A
+// point light at (1, 2.5, 1.5), Color (1, 0.9, 0.8), Intensity 250: FBX intensities are percentages,
+// so Assimp gives (and symphong takes as the radiant intensity I) the colour x 2.5.
+// The field of view: Assimp 5.2's FBX importer puts the file's full horizontal angle into
+// aiCamera::mHorizontalFOV (whose comment says half of it; Assimp 5.3 halves it), so the vertical field of
+// view is 2 atan(tan(60 deg / 2) / (4/3)) = 46.83 degrees, not the 104.8 degrees that reading 60 degrees
+// as the half-angle gives.
+TEST(Assimp, AuthoredFbxLoadsItsGeometryMaterialsCameraAndLight) {
+    const Scene s = loadScene(std::string(SYMPHONG_SOURCE_DIR) + "/tests/data/fbx/box.fbx");
+    ASSERT_EQ(s.triangles.size(), 12u) << "6 quads";
+    Vec3 lo, hi;
+    s.bounds(lo, hi);
+    const Vec3 lo0(0, 0, 0), hi0(2, 1, 3);
+    EXPECT_LT(length(lo - lo0) + length(hi - hi0), 1e-4 * length(hi0 - lo0)) << "the bounding box moved or was scaled";
+
+    // Areas by material, and the lamp's winding: it emits on its counter-clockwise side, upwards.
+    const auto materialNamed = [&](const std::string& name) -> const PhongMaterial* {
+        for (const PhongMaterial& m : s.materials)
+            if (m.name == name) return &m;
+        return nullptr;
+    };
+    const PhongMaterial* white = materialNamed("white");
+    const PhongMaterial* lamp = materialNamed("lamp");
+    ASSERT_NE(white, nullptr);
+    ASSERT_NE(lamp, nullptr);
+    double area = 0, whiteArea = 0, lampArea = 0;
+    int lampTriangles = 0;
+    for (const Triangle& t : s.triangles) {
+        const Vec3 c = cross(s.positions[t.v[1]] - s.positions[t.v[0]], s.positions[t.v[2]] - s.positions[t.v[0]]);
+        area += 0.5 * length(c);
+        const PhongMaterial& m = s.materials[t.material];
+        if (&m == white) whiteArea += 0.5 * length(c);
+        if (&m == lamp) {
+            lampArea += 0.5 * length(c), ++lampTriangles;
+            EXPECT_GT(normalize(c).y, 1 - 1e-9) << "the lamp's triangles face down";
+        }
+    }
+    EXPECT_NEAR(area, 2 * (2 * 3 + 2 * 1 + 1 * 3), 1e-6 * 22);
+    EXPECT_NEAR(lampArea, 2 * 3, 1e-6 * 6);
+    EXPECT_NEAR(whiteArea, 22 - 6, 1e-6 * 16);
+    EXPECT_EQ(lampTriangles, 2);
+
+    // Phong / Blinn parameters directly: diffuse -> rho_d, specular -> rho_s, shininess -> n, emissive -> Le.
+    for (const Color& c : {white->rhoD, white->rhoS, white->emission, lamp->rhoD, lamp->rhoS, lamp->emission}) {
+        EXPECT_NEAR(c.x, c.y, 1e-9) << "grey in the file";
+        EXPECT_NEAR(c.y, c.z, 1e-9) << "grey in the file";
+    }
+    EXPECT_NEAR(white->rhoD.x, 0.7, 1e-6);
+    EXPECT_NEAR(white->rhoS.x, 0.2, 1e-6);
+    EXPECT_NEAR(white->exponent, 20, 1e-5);
+    EXPECT_EQ(white->emission.x, 0.0);
+    EXPECT_EQ(lamp->rhoD.x, 0.0);
+    EXPECT_EQ(lamp->rhoS.x, 0.0);
+    EXPECT_NEAR(lamp->exponent, 1, 1e-6);
+    EXPECT_NEAR(lamp->emission.x, 5, 1e-6);
+
+    EXPECT_NEAR(s.camera.position.x, 1, 1e-5);
+    EXPECT_NEAR(s.camera.position.y, 0.5, 1e-5);
+    EXPECT_NEAR(s.camera.position.z, 10, 1e-5);
+    const Vec3 view = normalize(s.camera.target - s.camera.position);
+    EXPECT_GT(dot(view, Vec3(0, 0, -1)), 1 - 1e-9) << "the camera looks along -z (its node's +x turned about +y)";
+    EXPECT_GT(dot(normalize(s.camera.up), Vec3(0, 1, 0)), 1 - 1e-9);
+    EXPECT_NEAR(s.camera.fovY, 2 * std::atan(std::tan(30 * kPi / 180) / (640.0 / 480.0)) * 180 / kPi, 0.01)
+        << "the vertical field of view of a 60-degree horizontal one at aspect 4/3";
+
+    ASSERT_EQ(s.lights.size(), 1u);
+    const Light& l = s.lights[0];
+    EXPECT_EQ(l.type, Light::Type::Point);
+    EXPECT_NEAR(l.position.x, 1, 1e-5);
+    EXPECT_NEAR(l.position.y, 2.5, 1e-5);
+    EXPECT_NEAR(l.position.z, 1.5, 1e-5);
+    EXPECT_NEAR(l.intensity.x, 1.0 * 2.5, 1e-5);
+    EXPECT_NEAR(l.intensity.y, 0.9 * 2.5, 1e-5);
+    EXPECT_NEAR(l.intensity.z, 0.8 * 2.5, 1e-5);
+}

@@ -1,5 +1,7 @@
 #include "accel/accel.h"
 
+#include "scene/surface.h"
+
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 
@@ -14,6 +16,21 @@ namespace {
 void onEmbreeError(void*, RTCError code, const char* message) {
     // Embree calls this on its own threads; we cannot throw through it, so report and abort the query.
     fmt::print(stderr, "symphong: Embree error {}: {}\n", static_cast<int>(code), message ? message : "");
+}
+
+/// Embree filter for cut-out materials (intersection and occlusion alike): a candidate hit where the
+/// material's alpha texture reads below 1/2 is rejected, so the ray goes on through the hole.
+void cutOutFilter(const RTCFilterFunctionNArguments* args) {
+    const auto& scene = *static_cast<const Scene*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        const Triangle& tri = scene.triangles[prim];
+        const PhongMaterial& m = scene.materials[tri.material];
+        if (!m.textures.alpha.present()) continue;
+        const TexCoord uv = texcoordAt(scene, tri, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+        if (cutOutAt(scene, m, uv)) args->valid[i] = 0;
+    }
 }
 
 }  // namespace
@@ -35,6 +52,11 @@ Accel::Accel(const Scene& scene) {
                                                                3 * sizeof(unsigned), scene.triangles.size()));
     for (std::size_t i = 0; i < scene.triangles.size(); ++i)
         for (int c = 0; c < 3; ++c) idx[3 * i + c] = scene.triangles[i].v[c];
+    if (scene.hasCutOuts()) {
+        rtcSetGeometryUserData(geom, const_cast<Scene*>(&scene));
+        rtcSetGeometryIntersectFilterFunction(geom, cutOutFilter);
+        rtcSetGeometryOccludedFilterFunction(geom, cutOutFilter);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scene_, geom);
     rtcReleaseGeometry(geom);

@@ -23,6 +23,8 @@ struct Hit {
 
 class Accel {
 public:
+    /// Builds the BVH of the scene's triangles. A scene with cut-out materials keeps a pointer to
+    /// `scene` (its filter reads the alpha textures during queries), so it must outlive the Accel.
     explicit Accel(const Scene& scene);
     ~Accel();
     Accel(const Accel&) = delete;

@@ -230,8 +230,9 @@ void addInfoCommand(CLI::App& app, std::string& scene) {
     CLI::App* i = app.add_subcommand("info", "Print what a scene file holds, as symphong loads it, without rendering.");
     i->footer("Triangles and vertices, the bounding box, the camera (given, or the automatic one), every material with its\n"
               "Phong parameters (rho_d, rho_s, n, emission) and how many triangles use it, the lights (point, spot,\n"
-              "directional; the default sky's sun when the scene brings no light), the environment, and the loader's warnings.\n"
-              "Texture maps are not read yet: an MTL's map_* lines are ignored.");
+              "directional; the default sky's sun when the scene brings no light), the environment (constant, default sky or\n"
+              "an HDR map), the textures (size, channels, wrap modes, and which material uses each for what), and the\n"
+              "loader's warnings (a missing texture file is one).");
     i->add_option("scene", scene, "cornell, FILE.obj, FILE.gltf/.glb/.ply/.fbx/.dae/.3ds or FILE.json")->capture_default_str();
 }
 
@@ -259,6 +260,22 @@ int runInfo(const std::string& spec) {
         const PhongMaterial& m = s.materials[i];
         fmt::print("  {:<20} rho_d {}  rho_s {}  n {:.6g}  emission {}  ({} triangles)\n", "'" + m.name + "'", triple(m.rhoD), triple(m.rhoS),
                    m.exponent, triple(m.emission), uses[i]);
+        const MaterialTextures& tx = m.textures;
+        if (!tx.any()) continue;
+        std::string maps;
+        const auto add = [&](const char* what, const TextureRef& r) {
+            if (r.present()) maps += fmt::format("{}{} = texture {}", maps.empty() ? "" : ", ", what, r.index);
+        };
+        const bool pbr = tx.model == MaterialTextures::Model::MetallicRoughness;
+        add(pbr ? "base colour" : "rho_d", tx.diffuse);
+        add("rho_s", tx.specular);
+        add("n", tx.exponent);
+        add("metallic-roughness", tx.metallicRoughness);
+        add("emission", tx.emission);
+        add("cut-out", tx.alpha);
+        if (pbr) maps += fmt::format(" (glTF factors: base colour {}, metallic {:.4g}, roughness {:.4g})", triple(tx.baseColor), tx.metallic, tx.roughness);
+        else if (tx.reflectance()) maps += " (times the constants above)";
+        fmt::print("  {:<20} maps: {}\n", "", maps);
     }
     fmt::print("lights      {}\n", s.lights.size());
     for (const Light& l : s.lights) {
@@ -273,9 +290,24 @@ int runInfo(const std::string& spec) {
                 break;
         }
     }
-    if (s.sky) fmt::print("environment default sky: zenith {}, horizon {}, ground {}\n", triple(s.sky->zenith), triple(s.sky->horizon), triple(s.sky->ground));
-    else fmt::print("environment constant radiance {}\n", triple(s.environment));
-    fmt::print("textures    none (texture maps are not read yet)\n");
+    if (s.environmentMap) {
+        const EnvironmentMap& e = *s.environmentMap;
+        fmt::print("environment HDR map {} ({} x {}), scale {:.6g}, rotation {:.4g} degrees, {} filtering; integral of Y(L) dw = {:.6g}\n",
+                   e.image().name(), e.image().width(), e.image().height(), e.scale(), e.rotationDegrees(), filterName(e.filter()),
+                   e.luminanceIntegral());
+    } else if (s.sky) {
+        fmt::print("environment default sky: zenith {}, horizon {}, ground {}\n", triple(s.sky->zenith), triple(s.sky->horizon), triple(s.sky->ground));
+    } else {
+        fmt::print("environment constant radiance {}\n", triple(s.environment));
+    }
+    std::uint64_t textureBytes = 0;
+    for (const Texture& t : s.textures) textureBytes += t.bytes();
+    fmt::print("textures    {} ({:.3g} MiB), {} texture coordinates\n", s.textures.size(), static_cast<double>(textureBytes) / (1024.0 * 1024.0), s.uvs.size());
+    for (std::size_t i = 0; i < s.textures.size(); ++i) {
+        const Texture& t = s.textures[i];
+        fmt::print("  {:<3} {} x {}, {} channel{}, wrap {}/{}: {}\n", i, t.width(), t.height(), t.channels(), t.channels() > 1 ? "s" : "",
+                   wrapModeName(t.wrapU), wrapModeName(t.wrapV), t.name());
+    }
     fmt::print("warnings    {}\n", s.warnings.size());
     for (const std::string& w : s.warnings) fmt::print("  {}\n", w);
     return 0;

@@ -5,9 +5,40 @@
 
 #include "math/vec3.h"
 
+#include <cstdint>
 #include <string>
 
 namespace symphong {
+
+/// A texture on one parameter of a material: an index into the scene's texture table (scene/), and the
+/// affine map of texture coordinates uv' = uv * scale + offset (the MTL options -s and -o).
+struct TextureRef {
+    std::int32_t index = -1;  ///< -1: no texture
+    double scaleU = 1, scaleV = 1, offsetU = 0, offsetV = 0;
+    bool present() const { return index >= 0; }
+};
+
+/// How textures set a material's parameters at a point. materials/ only records them; scene/surface.h
+/// looks them up and turns them into Phong parameters.
+struct MaterialTextures {
+    enum class Model {
+        Phong,              ///< rho_d = Kd x diffuse, rho_s = Ks x specular, n = Ns x exponent (its first channel)
+        MetallicRoughness,  ///< glTF: base colour = baseColor x diffuse, roughness = roughness x G and metallic =
+                            ///< metallic x B of metallicRoughness, then the Phong approximation of scene/assimp_loader
+    };
+    Model model = Model::Phong;
+    TextureRef diffuse, specular, exponent, metallicRoughness;
+    TextureRef emission;  ///< Le = Ke x emission
+    TextureRef alpha;     ///< cut-out: where its coverage is below 1/2 the surface is a hole
+    Color baseColor{1.0};                 ///< MetallicRoughness factors
+    double metallic = 0, roughness = 1;
+
+    bool any() const {
+        return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present() || emission.present() || alpha.present();
+    }
+    /// Whether the textures change rho_d, rho_s or n (not only emission or coverage).
+    bool reflectance() const { return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present(); }
+};
 
 struct PhongMaterial {
     std::string name = "default";
@@ -15,6 +46,7 @@ struct PhongMaterial {
     Color rhoS{0.0};       ///< specular albedo rho_s (at normal incidence, before the horizon cuts the lobe)
     double exponent = 1;   ///< Phong exponent n >= 0
     Color emission{0.0};   ///< emitted radiance Le on the front side (counter-clockwise winding)
+    MaterialTextures textures;  ///< texture maps on these parameters (none by default)
 
     bool isEmissive() const { return !isBlack(emission); }
     bool hasSpecular() const { return !isBlack(rhoS); }

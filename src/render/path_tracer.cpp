@@ -2,6 +2,7 @@
 
 #include "math/frame.h"
 #include "sampling/warp.h"
+#include "scene/surface.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,6 +64,14 @@ EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& ar
             power.push_back(p);
         }
     }
+    if (withTriangles && scene.environmentMap) {
+        const double p = kPi * radius * radius * scene.environmentMap->luminanceIntegral();
+        if (p > 0) {
+            environmentSlot_ = static_cast<std::int64_t>(entries_.size());
+            entries_.push_back(0);
+            power.push_back(p);
+        }
+    }
     distribution_ = Distribution1D(power);
 }
 
@@ -71,11 +80,15 @@ double EmitterSampler::pickProbability(std::uint32_t prim) const {
     return s < 0 ? 0.0 : distribution_.pmf(static_cast<std::size_t>(s));
 }
 
-std::uint32_t EmitterSampler::pick(double u, double& probability, double& uRemapped, bool& isLight) const {
+double EmitterSampler::environmentProbability() const {
+    return environmentSlot_ < 0 ? 0.0 : distribution_.pmf(static_cast<std::size_t>(environmentSlot_));
+}
+
+std::uint32_t EmitterSampler::pick(double u, double& probability, double& uRemapped, Kind& kind) const {
     const std::size_t i = distribution_.sample(u);
     probability = distribution_.pmf(i);
     uRemapped = std::clamp((u - distribution_.cdf(i)) / probability, 0.0, kOneBelow);
-    isLight = i >= lightBase_;
+    kind = static_cast<std::int64_t>(i) == environmentSlot_ ? Kind::Environment : (i >= lightBase_ ? Kind::Light : Kind::Triangle);
     return entries_[i];
 }
 
@@ -87,6 +100,7 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       areas_(triangleAreas(scene, geometricNormals_)),
       emitters_(scene, areas_, settings.nextEvent && estimator.combinesWithLightSampling()),
       triangleSampling_(emitters_.hasTriangles()),
+      environmentSampling_(emitters_.hasEnvironment()),
       lightSampling_(!emitters_.empty()) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
@@ -98,6 +112,7 @@ Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& sam
     if (scratch.directions.size() < static_cast<std::size_t>(settings_.maxDepth) + 1) {
         scratch.directions.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
         scratch.bundles.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
+        scratch.materials.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
     }
     PathContext pc{samples, stats, scratch};
     return radiance(o, d, 0, 0, 0.0, Color(1.0), pc);
@@ -115,10 +130,15 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_
 
 Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int depth, std::uint64_t path, double prevMisPdf,
                         const Color& throughput, PathContext& pc) const {
-    if (!found) return scene_.sky ? skyRadiance(*scene_.sky, normalize(d)) : scene_.environment;
+    if (!found) return escaped(d, depth, prevMisPdf);
     const Hit& hit = *found;
     const Triangle& tri = scene_.triangles[hit.prim];
-    const PhongMaterial& mat = scene_.materials[tri.material];
+    const PhongMaterial& baseMaterial = scene_.materials[tri.material];
+    // A textured material's parameters at this point, in this depth's scratch material.
+    const bool textured = baseMaterial.textures.any();
+    const TexCoord uv = textured ? texcoordAt(scene_, tri, hit.u, hit.v) : TexCoord{};
+    const PhongMaterial& mat =
+        textured ? materialAt(scene_, baseMaterial, uv, pc.scratch.materials[static_cast<std::size_t>(depth)]) : baseMaterial;
     const Vec3 p = o + d * hit.t;
     Vec3 ng = geometricNormals_[hit.prim];
     const bool frontFace = dot(ng, d) < 0;
@@ -132,7 +152,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
             const double lightPdf = emitters_.pickProbability(hit.prim) / areas_[hit.prim] * dist2 / cosL;
             w = powerHeuristic(prevMisPdf, lightPdf);
         }
-        L += mat.emission * w;
+        L += (textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission) * w;
     }
     if (depth >= settings_.maxDepth) return L;
 
@@ -213,9 +233,10 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
 Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
                                 TraceStats& stats) const {
     double pick = 0, uPoint = 0;
-    bool isLight = false;
-    const std::uint32_t prim = emitters_.pick(u.u, pick, uPoint, isLight);
-    if (isLight) return sampleLight(scene_.lights[prim], p, ng, frame, sc, pick, stats);
+    EmitterSampler::Kind kind;
+    const std::uint32_t prim = emitters_.pick(u.u, pick, uPoint, kind);
+    if (kind == EmitterSampler::Kind::Light) return sampleLight(scene_.lights[prim], p, ng, frame, sc, pick, stats);
+    if (kind == EmitterSampler::Kind::Environment) return sampleEnvironment(p, ng, frame, sc, {uPoint, u.v}, pick, stats);
     const Point2 b = sampleUniformTriangle({uPoint, u.v});
     const Triangle& t = scene_.triangles[prim];
     const Vec3 q = scene_.positions[t.v[0]] * b.u + scene_.positions[t.v[1]] * b.v +
@@ -234,7 +255,37 @@ Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& fram
     ++stats.rays;
     if (accel_.occluded(origin, q - origin, 0.0, 1.0 - 1e-5)) return Color(0.0);
     const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
-    return f * scene_.materials[t.material].emission * (wiLocal.z * w / lightPdf);
+    const PhongMaterial& emitter = scene_.materials[t.material];
+    // q = b.u v0 + b.v v1 + (1 - b.u - b.v) v2: barycentrics (b.v, 1 - b.u - b.v) of vertices 1 and 2.
+    const Color Le = emitter.textures.any() ? emissionAt(scene_, emitter, texcoordAt(scene_, t, b.v, 1.0 - b.u - b.v)) : emitter.emission;
+    return f * Le * (wiLocal.z * w / lightPdf);
+}
+
+Color PathTracer::sampleEnvironment(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, double pick,
+                                    TraceStats& stats) const {
+    const EnvironmentMap& env = *scene_.environmentMap;
+    double pdf = 0;
+    const Vec3 wi = env.sample(u, pdf);
+    if (!(pdf > 0) || dot(wi, ng) <= 0) return Color(0.0);
+    const Vec3 wiLocal = frame.toLocal(wi);
+    if (wiLocal.z <= 0) return Color(0.0);
+    const Color f = evalPhong(*sc.material, sc.wo, wiLocal);
+    if (isBlack(f)) return Color(0.0);
+    ++stats.rays;
+    if (accel_.occluded(p + ng * epsilon_, wi, 0.0, std::numeric_limits<double>::infinity())) return Color(0.0);
+    const double lightPdf = pick * pdf;
+    const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
+    return f * env.radiance(wi) * (wiLocal.z * w / lightPdf);
+}
+
+Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {
+    if (scene_.environmentMap) {
+        const Vec3 dir = normalize(d);
+        double w = 1.0;
+        if (depth > 0 && environmentSampling_) w = powerHeuristic(prevMisPdf, emitters_.environmentProbability() * scene_.environmentMap->pdf(dir));
+        return scene_.environmentMap->radiance(dir) * w;
+    }
+    return scene_.sky ? skyRadiance(*scene_.sky, normalize(d)) : scene_.environment;
 }
 
 // A point, spot or directional light: the one direction it arrives from, no MIS (no path can hit it).

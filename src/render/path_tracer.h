@@ -28,26 +28,33 @@ struct TraceStats {
     std::uint64_t badSamples = 0;  ///< non-finite path contributions, discarded (counted, never written)
 };
 
-/// Light sampling: emissive triangles (a uniform point on one) and point, spot and directional lights,
-/// one of them chosen in proportion to its power (area x Y(Le) for a triangle; 4 pi Y(I) for a point
-/// light, its cone's share of that for a spot, pi r^2 Y(E) over the scene's bounding sphere for a
-/// directional light). The triangles are left out when the path tracer does not sample them (no NEE);
-/// the lights never are, since no path can hit them.
+/// Light sampling: emissive triangles (a uniform point on one), point, spot and directional lights, and
+/// an environment map, one of them chosen in proportion to its power (area x Y(Le) for a triangle; 4 pi
+/// Y(I) for a point light, its cone's share of that for a spot, pi r^2 Y(E) over the scene's bounding
+/// sphere for a directional light, pi r^2 x integral Y(L) dw for the environment map). The triangles and
+/// the environment map are left out when the path tracer does not sample them (no NEE, or an estimator
+/// without a density); the lights never are, since no path can hit them.
 class EmitterSampler {
 public:
+    enum class Kind { Triangle, Light, Environment };
     EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withTriangles);
     bool empty() const { return entries_.empty(); }
     bool hasTriangles() const { return lightBase_ > 0; }
+    bool hasEnvironment() const { return environmentSlot_ >= 0; }
     /// Probability of picking triangle `prim` (0 if it does not emit or triangles are left out).
     double pickProbability(std::uint32_t prim) const;
-    /// Picks an emitter from u in [0,1): a triangle (its index in Scene::triangles) or, with `isLight`
-    /// set, a light (its index in Scene::lights); its probability; and u rescaled to [0,1) inside the
-    /// chosen one's share (so one 2D value can choose a triangle and, with its rescaled u, the point on it).
-    std::uint32_t pick(double u, double& probability, double& uRemapped, bool& isLight) const;
+    /// Probability of picking the environment map (0 when it is not sampled).
+    double environmentProbability() const;
+    /// Picks an emitter from u in [0,1): a triangle (its index in Scene::triangles), a light (its index in
+    /// Scene::lights) or the environment map, as `kind` says; its probability; and u rescaled to [0,1)
+    /// inside the chosen one's share (so one 2D value can choose a triangle and, with its rescaled u, the
+    /// point on it).
+    std::uint32_t pick(double u, double& probability, double& uRemapped, Kind& kind) const;
 
 private:
-    std::vector<std::uint32_t> entries_;  ///< triangles first (indices into Scene::triangles), then lights
+    std::vector<std::uint32_t> entries_;  ///< triangles first (indices into Scene::triangles), then lights, then the environment
     std::size_t lightBase_ = 0;           ///< entries_[i] is a light index from here on
+    std::int64_t environmentSlot_ = -1;   ///< the environment map's entry, or -1
     std::vector<std::int32_t> slot_;      ///< triangle -> index in entries_, or -1
     Distribution1D distribution_;
 };
@@ -91,6 +98,7 @@ struct RayBundle {
 struct PathScratch {
     CacheLineVector<DirectionList> directions;  ///< one buffer per depth (each alone on its cache lines: util/cache_line.h)
     CacheLineVector<RayBundle> bundles;         ///< one per depth
+    CacheLineVector<PhongMaterial> materials;   ///< one per depth: a textured material's parameters at its vertex
 };
 
 class PathTracer {
@@ -117,6 +125,13 @@ private:
     Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf,
                 const Color& throughput, PathContext& pc) const;
     Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
+    /// A direction from the environment map's importance sampling (picked with probability `pick`),
+    /// weighted against the estimator by the power heuristic.
+    Color sampleEnvironment(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, double pick,
+                            TraceStats& stats) const;
+    /// Radiance of a ray that left the scene along d: the environment map (MIS-weighted against its light
+    /// sampling from the previous vertex), the default sky or the constant environment.
+    Color escaped(const Vec3& d, int depth, double prevMisPdf) const;
     /// One point, spot or directional light's direct contribution (picked with probability `pick`).
     Color sampleLight(const Light& light, const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, double pick,
                       TraceStats& stats) const;
@@ -129,7 +144,8 @@ private:
     std::vector<double> areas_;
     EmitterSampler emitters_;
     bool triangleSampling_;  ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
-    bool lightSampling_;     ///< NEE at all: triangles as above, or lights (always sampled)
+    bool environmentSampling_;  ///< NEE + MIS of the environment map, on the same terms as the triangles
+    bool lightSampling_;     ///< NEE at all: triangles or environment as above, or lights (always sampled)
     double epsilon_ = 1e-4;  ///< ray offset, relative to the scene's size
 };
 

@@ -2,17 +2,24 @@
 // PLY, FBX, Collada, 3DS and the rest Assimp reads. Meshes are triangulated and placed by their nodes'
 // transforms; materials are mapped to Phong parameters by the table in docs/scene-format.md; the
 // file's first camera and its point, spot and directional lights are kept. Coordinates stay as the
-// file defines them (glTF: y up, metres).
+// file defines them (glTF: y up, metres). Textures (diffuse / base colour, specular, shininess,
+// metallic-roughness, emissive, opacity and glTF's alpha mask), from files beside the model or embedded
+// in it, go through scene/surface.h's texture table.
 #include "scene/scene.h"
 
 #include "io/input_error.h"
+#include "io/memory.h"
+#include "scene/surface.h"
+#include "texture/texture_io.h"
 
 #include <nlohmann/json.hpp>
 
+#include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/version.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -43,11 +50,100 @@ aiMatrix4x4 nodeTransform(const std::vector<std::pair<std::string, aiMatrix4x4>>
     return aiMatrix4x4();
 }
 
+WrapMode wrapMode(int mode) {
+    switch (mode) {
+        case aiTextureMapMode_Clamp:
+        case aiTextureMapMode_Decal: return WrapMode::Clamp;
+        case aiTextureMapMode_Mirror: return WrapMode::Mirror;
+        default: return WrapMode::Repeat;
+    }
+}
+
+/// The first texture of `type` on material m, from a file beside the model or embedded in it ("*N"),
+/// with its wrap modes; an absent one is a TextureRef without index (a missing file also warns).
+TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType type, TextureEncoding encoding, TextureTable& table,
+                         Scene& scene, const std::string& path, const std::string& materialName) {
+    TextureRef ref;
+    if (m.GetTextureCount(type) == 0) return ref;
+    aiString file;
+    aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+    if (m.GetTexture(type, 0, &file, nullptr, nullptr, nullptr, nullptr, modes) != AI_SUCCESS || file.length == 0) return ref;
+    const std::string where = fmt::format("{}: material '{}'", path, materialName);
+    if (const aiTexture* embedded = ai.GetEmbeddedTexture(file.C_Str())) {
+        const std::string name = fmt::format("{}: embedded texture '{}'", path, file.C_Str());
+        ref.index = table.add(name, encoding, [&] {
+            if (embedded->mHeight == 0)  // compressed (PNG, JPEG, ...): mWidth bytes
+                return decodeTexture(name, reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, encoding);
+            // Raw BGRA8888 texels, mWidth x mHeight, row 0 at the top.
+            const std::uint64_t w = embedded->mWidth, h = embedded->mHeight;
+            requireMemory(saturatingMultiply(w, h) * 16, fmt::format("{}: a {} x {} texture", name, w, h));
+            std::vector<float> texels(static_cast<std::size_t>(w * h * 4));
+            for (std::size_t i = 0; i < w * h; ++i) {
+                const aiTexel& t = embedded->pcData[i];
+                const unsigned char rgba[4] = {t.r, t.g, t.b, t.a};
+                for (int c = 0; c < 4; ++c)
+                    texels[i * 4 + static_cast<std::size_t>(c)] =
+                        static_cast<float>(encoding == TextureEncoding::Srgb && c < 3 ? srgbToLinear(rgba[c] / 255.0) : rgba[c] / 255.0);
+            }
+            return Texture(name, static_cast<int>(w), static_cast<int>(h), 4, std::move(texels));
+        });
+    } else {
+        if (file.C_Str()[0] == '*') throw InputError(fmt::format("{}: texture '{}' refers to an embedded image the file does not have", where, file.C_Str()));
+        std::filesystem::path f = file.C_Str();
+        if (f.is_relative()) f = std::filesystem::path(path).parent_path() / f;
+        ref.index = table.file(f.string(), encoding, where);
+    }
+    if (ref.index >= 0) {
+        Texture& t = scene.textures[static_cast<std::size_t>(ref.index)];
+        t.wrapU = wrapMode(modes[0]);
+        t.wrapV = wrapMode(modes[1]);
+    }
+    return ref;
+}
+
+/// Attaches material index i's textures: Phong maps (diffuse, specular, shininess) or glTF's
+/// metallic-roughness ones (base colour, metallic-roughness), emissive, and a cut-out (an opacity map,
+/// or glTF's alphaMode MASK/BLEND on the base colour's alpha).
+void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, bool pbr, const aiColor4D& base, float metallic, float roughness,
+                    TextureTable& table, Scene& scene, const std::string& path) {
+    MaterialTextures& tx = out.textures;
+    const auto tex = [&](aiTextureType type, TextureEncoding enc) { return assimpTexture(ai, m, type, enc, table, scene, path, out.name); };
+    if (pbr) {
+        tx.diffuse = tex(aiTextureType_BASE_COLOR, TextureEncoding::Srgb);
+        if (!tx.diffuse.present()) tx.diffuse = tex(aiTextureType_DIFFUSE, TextureEncoding::Srgb);
+        tx.metallicRoughness = tex(aiTextureType_UNKNOWN, TextureEncoding::Linear);  // glTF: G roughness, B metallic
+        if (tx.diffuse.present() || tx.metallicRoughness.present()) {
+            tx.model = MaterialTextures::Model::MetallicRoughness;
+            tx.baseColor = Color(base.r, base.g, base.b);
+            tx.metallic = metallic;
+            tx.roughness = roughness;
+        }
+        aiString mode;
+        if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) != "OPAQUE" && tx.diffuse.present()) {
+            tx.alpha = tx.diffuse;
+            if (std::string(mode.C_Str()) == "BLEND")
+                scene.warnings.push_back(fmt::format("{}: material '{}' blends by alpha; symphong renders it as a cut-out at alpha 1/2", path, out.name));
+        }
+    } else {
+        tx.diffuse = tex(aiTextureType_DIFFUSE, TextureEncoding::Srgb);
+        tx.specular = tex(aiTextureType_SPECULAR, TextureEncoding::Srgb);
+        tx.exponent = tex(aiTextureType_SHININESS, TextureEncoding::Linear);
+        // A texture with no constant beside it: the constant is 1 (1000 for the exponent), as for MTL.
+        aiColor3D c;
+        if (tx.diffuse.present() && m.Get(AI_MATKEY_COLOR_DIFFUSE, c) != AI_SUCCESS) out.rhoD = Color(1.0);
+        if (tx.specular.present() && m.Get(AI_MATKEY_COLOR_SPECULAR, c) != AI_SUCCESS) out.rhoS = Color(1.0);
+        float shininess;
+        if (tx.exponent.present() && m.Get(AI_MATKEY_SHININESS, shininess) != AI_SUCCESS) out.exponent = 1000;
+    }
+    tx.emission = tex(aiTextureType_EMISSIVE, TextureEncoding::Srgb);
+    if (!tx.alpha.present()) tx.alpha = tex(aiTextureType_OPACITY, TextureEncoding::Linear);
+}
+
 /// One material: Phong/Blinn parameters directly (diffuse -> rho_d, specular -> rho_s, shininess -> n,
 /// emissive -> Le); a glTF metallic-roughness material by the stated approximation: rho_d = base (1 -
 /// metallic), rho_s = 0.04 (1 - metallic) + base metallic, n = 2 / alpha^2 - 2 with alpha = roughness^2
 /// (at most 10^4); emission times KHR_materials_emissive_strength.
-PhongMaterial mapMaterial(const aiMaterial& m, std::size_t index) {
+PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, TextureTable& table, Scene& scene, const std::string& path) {
     PhongMaterial out;
     aiString name;
     out.name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0 ? name.C_Str() : fmt::format("material{}", index);
@@ -73,6 +169,7 @@ PhongMaterial mapMaterial(const aiMaterial& m, std::size_t index) {
     if (m.Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) out.emission = toColor(e);
     float strength = 1;
     if (m.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength) == AI_SUCCESS && strength != 1.0f) out.emission *= static_cast<double>(strength);
+    attachTextures(ai, m, out, pbr, base, metallic, roughness, table, scene, path);
     return out;
 }
 
@@ -121,7 +218,8 @@ Scene loadAssimp(const std::string& path) {
 
     Scene scene;
     scene.name = std::filesystem::path(path).stem().string();
-    for (unsigned i = 0; i < ai->mNumMaterials; ++i) scene.materials.push_back(mapMaterial(*ai->mMaterials[i], i));
+    TextureTable table(scene);
+    for (unsigned i = 0; i < ai->mNumMaterials; ++i) scene.materials.push_back(mapMaterial(*ai, *ai->mMaterials[i], i, table, scene, path));
     if (scene.materials.empty()) scene.materials.push_back(PhongMaterial{});
     const nlohmann::json gltf = gltfJson(path);
     if (gltf.is_object() && gltf.contains("materials") && gltf["materials"].is_array())
@@ -143,6 +241,10 @@ Scene loadAssimp(const std::string& path) {
             if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
             const auto base = static_cast<std::uint32_t>(scene.positions.size());
             const auto normalBase = static_cast<std::int32_t>(scene.normals.size());
+            const auto uvBase = static_cast<std::int32_t>(scene.uvs.size());
+            const bool hasUvs = mesh->mTextureCoords[0] != nullptr;
+            requireMemory(saturatingMultiply(mesh->mNumVertices, 80) + saturatingMultiply(mesh->mNumFaces, 48),
+                          fmt::format("{}: mesh '{}' of {} vertices and {} faces", path, mesh->mName.C_Str(), mesh->mNumVertices, mesh->mNumFaces));
             for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
                 const Vec3 p = toVec3(world * mesh->mVertices[v]);
                 if (!isFinite(p)) throw InputError(fmt::format("{}: mesh '{}' vertex {} is not finite", path, mesh->mName.C_Str(), v));
@@ -151,6 +253,11 @@ Scene loadAssimp(const std::string& path) {
                     Vec3 n = toVec3(normalMatrix * mesh->mNormals[v]);
                     const double len = length(n);
                     scene.normals.push_back(len > 0 && std::isfinite(len) ? n / len : Vec3(0, 1, 0));
+                }
+                if (hasUvs) {
+                    const aiVector3D& t = mesh->mTextureCoords[0][v];
+                    const bool finite = std::isfinite(t.x) && std::isfinite(t.y);
+                    scene.uvs.push_back({finite ? t.x : 0.0, finite ? t.y : 0.0});
                 }
             }
             const std::uint32_t material = mesh->mMaterialIndex < scene.materials.size() ? mesh->mMaterialIndex : 0;
@@ -164,6 +271,7 @@ Scene loadAssimp(const std::string& path) {
                     if (idx >= mesh->mNumVertices) throw InputError(fmt::format("{}: mesh '{}' face {} has a vertex index out of range", path, mesh->mName.C_Str(), f));
                     t.v[static_cast<std::size_t>(c)] = base + idx;
                     t.n[static_cast<std::size_t>(c)] = mesh->mNormals ? normalBase + static_cast<std::int32_t>(idx) : -1;
+                    t.t[static_cast<std::size_t>(c)] = hasUvs ? uvBase + static_cast<std::int32_t>(idx) : -1;
                 }
                 scene.triangles.push_back(t);
             }
@@ -173,6 +281,9 @@ Scene loadAssimp(const std::string& path) {
     place(ai->mRootNode, aiMatrix4x4());
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
 
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const bool fbx = extension == ".fbx";
     if (ai->mNumCameras > 0) {
         const aiCamera& c = *ai->mCameras[0];
         const aiMatrix4x4 world = nodeTransform(nodes, c.mName);
@@ -190,9 +301,13 @@ Scene loadAssimp(const std::string& path) {
             scene.camera.position = position;
             scene.camera.target = position + normalize(toVec3(rotation * c.mLookAt));
             scene.camera.up = normalize(toVec3(rotation * c.mUp));
-            // Assimp gives half the horizontal field of view; the vertical one follows from the aspect ratio.
+            // aiCamera::mHorizontalFOV is documented as half the horizontal field of view, but Assimp 5.2's FBX
+            // importer stores the file's full FieldOfView there (Assimp 5.3 halves it). The vertical field of
+            // view follows from the half-angle and the aspect ratio.
             const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
-            scene.camera.fovY = 2.0 * std::atan(std::tan(static_cast<double>(c.mHorizontalFOV)) / aspect) * 180.0 / kPi;
+            double half = c.mHorizontalFOV;
+            if (fbx && (aiGetVersionMajor() < 5 || (aiGetVersionMajor() == 5 && aiGetVersionMinor() < 3))) half *= 0.5;
+            scene.camera.fovY = 2.0 * std::atan(std::tan(half) / aspect) * 180.0 / kPi;
         }
     } else {
         scene.camera = scene.automaticCamera();

@@ -4,6 +4,7 @@
 #include "io/files.h"
 #include "io/input_error.h"
 #include "scene/scene.h"
+#include "texture/texture_io.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -219,7 +220,35 @@ Scene loadJsonScene(const std::string& path) {
     }
 
     const bool environmentGiven = doc.contains("environment");
-    if (environmentGiven) scene.environment = nonNegativeColor(doc["environment"], "environment", path);
+    if (environmentGiven) {
+        const json& e = doc["environment"];
+        if (e.is_object()) {
+            // An HDR lat-long image (scene/environment_map.h): {"map": file, "scale", "rotation", "filter"}.
+            checkKeys(e, {"map", "scale", "rotation", "filter"}, "\"environment\"", path);
+            if (!e.contains("map") || !e["map"].is_string())
+                throw InputError(fmt::format("{}: environment.map must be the path of a lat-long image (.exr or .hdr)", path));
+            std::filesystem::path file = e["map"].get<std::string>();
+            if (file.is_relative()) file = dir / file;
+            const double scale = e.contains("scale") ? number(e["scale"], "environment.scale", path) : 1.0;
+            if (scale < 0) throw InputError(fmt::format("{}: environment.scale = {} is negative", path, scale));
+            const double rotation = e.contains("rotation") ? number(e["rotation"], "environment.rotation", path) : 0.0;
+            EnvironmentMap::Filter filter = EnvironmentMap::Filter::Bilinear;
+            if (e.contains("filter")) {
+                if (e["filter"] == "nearest") filter = EnvironmentMap::Filter::Nearest;
+                else if (e["filter"] != "bilinear")
+                    throw InputError(fmt::format("{}: environment.filter {} is not \"bilinear\" or \"nearest\"", path, e["filter"].dump()));
+            }
+            try {
+                scene.environmentMap.emplace(loadTextureFile(file.string(), TextureEncoding::Linear), scale, rotation, filter);
+            } catch (const MissingFileError& err) {
+                throw MissingFileError(fmt::format("{}: environment.map: {}", path, err.what()));
+            } catch (const InputError& err) {
+                throw InputError(fmt::format("{}: environment.map: {}", path, err.what()));
+            }
+        } else {
+            scene.environment = nonNegativeColor(e, "environment", path);
+        }
+    }
     finalizeScene(scene, path, environmentGiven);
     return scene;
 }

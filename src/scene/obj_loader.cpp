@@ -1,9 +1,13 @@
 // Wavefront OBJ/MTL loading. tinyobjloader does the parsing; before it runs, a line-by-line pass over
 // the OBJ (and its MTL) rejects what tinyobjloader would accept silently or report without a line:
-// non-finite numbers, faces with fewer than 3 vertices, indices of 0 or out of range.
+// non-finite numbers, faces with fewer than 3 vertices, indices of 0 or out of range; it also counts
+// the elements so that a mesh too large for memory is refused before it is parsed. Texture maps of the
+// MTL (map_Kd, map_Ks, map_Ns, map_d, map_Ke) go through scene/surface.h's texture table.
 #include "io/files.h"
 #include "io/input_error.h"
+#include "io/memory.h"
 #include "scene/scene.h"
+#include "scene/surface.h"
 
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
@@ -12,6 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -60,7 +65,13 @@ void forEachLine(const std::string& text, Fn&& fn) {
 struct ObjScan {
     std::set<std::string> usedMaterials;
     std::vector<std::string> mtllibs;
+    std::uint64_t counts[3] = {0, 0, 0};  ///< v, vt, vn lines
+    std::uint64_t corners = 0;            ///< face corners over all f lines
 };
+
+/// What an MTL file states for each material: the line of each keyword it gives (so a map without its
+/// constant can take 1 as the constant, and a missing texture can be reported at its line).
+using MtlKeys = std::map<std::string, std::map<std::string, int>>;
 
 ObjScan validateObj(const std::string& path, const std::string& text) {
     ObjScan scan;
@@ -79,16 +90,20 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
         if (key == "v") {
             numbers(3, "vertex coordinate");
             ++counts[0];
+            ++scan.counts[0];
         } else if (key == "vt") {
             numbers(1, "texture coordinate");
             ++counts[1];
+            ++scan.counts[1];
         } else if (key == "vn") {
             numbers(3, "normal component");
             ++counts[2];
+            ++scan.counts[2];
         } else if (key == "f") {
             if (w.size() - 1 < 3)
                 throw InputError(fmt::format("{}:{}: face has {} vertices, at least 3 are needed", path, line, w.size() - 1));
             static const char* kinds[3] = {"vertex", "texture", "normal"};
+            scan.corners += w.size() - 1;
             for (std::size_t i = 1; i < w.size(); ++i) {
                 std::size_t start = 0;
                 for (int k = 0; k < 3 && start <= w[i].size(); ++k) {
@@ -121,9 +136,13 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
     return scan;
 }
 
-void validateMtl(const std::string& path, const std::string& text) {
+MtlKeys validateMtl(const std::string& path, const std::string& text) {
+    MtlKeys keys;
+    std::string current;
     forEachLine(text, [&](int line, const std::vector<std::string>& w) {
         const std::string& key = w[0];
+        if (key == "newmtl" && w.size() >= 2) current = trim(w[1]);
+        else keys[current].emplace(key, line);
         const bool colour = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ka";
         if (!colour && key != "Ns") return;
         if (colour && w.size() >= 2 && (w[1] == "spectral" || w[1] == "xyz")) return;  // not used by symphong
@@ -135,6 +154,25 @@ void validateMtl(const std::string& path, const std::string& text) {
             if (value < 0) throw InputError(fmt::format("{}:{}: {} value {} is negative", path, line, key, w[i]));
         }
     });
+    return keys;
+}
+
+/// A map of the MTL as a TextureRef: the file (relative to the MTL's folder) through the texture table,
+/// its -clamp option as the wrap mode, its -s and -o options as the coordinate map.
+TextureRef mtlTexture(TextureTable& table, const std::string& dir, const std::string& name, const tinyobj::texture_option_t& opt,
+                      TextureEncoding encoding, const std::string& where, Scene& scene) {
+    TextureRef ref;
+    if (name.empty()) return ref;
+    std::filesystem::path file = name;
+    if (file.is_relative()) file = std::filesystem::path(dir) / file;
+    ref.index = table.file(file.string(), encoding, where);
+    if (ref.index < 0) return ref;
+    ref.scaleU = opt.scale[0], ref.scaleV = opt.scale[1], ref.offsetU = opt.origin_offset[0], ref.offsetV = opt.origin_offset[1];
+    if (!std::isfinite(ref.scaleU) || !std::isfinite(ref.scaleV) || !std::isfinite(ref.offsetU) || !std::isfinite(ref.offsetV))
+        throw InputError(fmt::format("{}: texture '{}': its -s or -o option is not finite", where, name));
+    Texture& t = scene.textures[static_cast<std::size_t>(ref.index)];
+    t.wrapU = t.wrapV = opt.clamp ? WrapMode::Clamp : WrapMode::Repeat;
+    return ref;
 }
 
 Color toColor(const tinyobj::real_t c[3]) { return {c[0], c[1], c[2]}; }
@@ -145,9 +183,18 @@ Scene loadObj(const std::string& path) {
     const std::string text = readTextFile(path);
     const ObjScan scan = validateObj(path, text);
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    // What tinyobjloader and our scene will hold per element (bytes, generously), before either exists.
+    requireMemory(scan.counts[0] * 48 + scan.counts[1] * 40 + scan.counts[2] * 48 + scan.corners * 60,
+                  fmt::format("{}: a mesh of {} vertices and {} face corners", path, scan.counts[0], scan.corners));
+    MtlKeys mtlKeys;
+    std::map<std::string, std::string> mtlFileOf;  // material -> its MTL file, for messages
     for (const std::string& lib : scan.mtllibs) {
         const auto mtlPath = (dir / lib).string();
-        if (std::filesystem::exists(mtlPath)) validateMtl(mtlPath, readTextFile(mtlPath));
+        if (std::filesystem::exists(mtlPath))
+            for (auto& [name, keys] : validateMtl(mtlPath, readTextFile(mtlPath))) {
+                mtlKeys[name] = keys;
+                mtlFileOf[name] = mtlPath;
+            }
     }
 
     tinyobj::ObjReaderConfig config;
@@ -171,7 +218,10 @@ Scene loadObj(const std::string& path) {
         const double len = length(n);
         scene.normals.push_back(len > 0 ? n / len : Vec3(0, 0, 1));
     }
+    for (std::size_t i = 0; i + 1 < attrib.texcoords.size(); i += 2) scene.uvs.push_back({attrib.texcoords[i], attrib.texcoords[i + 1]});
 
+    TextureTable table(scene);
+    const std::string mtlDir = dir.string();
     for (const tinyobj::material_t& mt : reader.GetMaterials()) {
         PhongMaterial m;
         m.name = trim(mt.name);
@@ -179,6 +229,24 @@ Scene loadObj(const std::string& path) {
         m.rhoS = toColor(mt.specular);
         m.exponent = mt.shininess;
         m.emission = toColor(mt.emission);
+        // A map multiplies its constant (Kd, Ks, Ns, Ke) as the MTL format says; where the file gives
+        // the map but not the constant, the constant is 1 (1000 for Ns, the top of MTL's 0..1000 range).
+        const auto& keys = mtlKeys[m.name];
+        const std::string mtlFile = mtlFileOf.count(m.name) ? mtlFileOf[m.name] : path;
+        const auto where = [&](const char* key) {
+            const auto it = keys.find(key);
+            return it == keys.end() ? fmt::format("{}: material '{}'", mtlFile, m.name) : fmt::format("{}:{}", mtlFile, it->second);
+        };
+        MaterialTextures& tx = m.textures;
+        tx.diffuse = mtlTexture(table, mtlDir, mt.diffuse_texname, mt.diffuse_texopt, TextureEncoding::Srgb, where("map_Kd"), scene);
+        tx.specular = mtlTexture(table, mtlDir, mt.specular_texname, mt.specular_texopt, TextureEncoding::Srgb, where("map_Ks"), scene);
+        tx.exponent = mtlTexture(table, mtlDir, mt.specular_highlight_texname, mt.specular_highlight_texopt, TextureEncoding::Linear, where("map_Ns"), scene);
+        tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"), scene);
+        tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"), scene);
+        if (tx.diffuse.present() && !keys.count("Kd")) m.rhoD = Color(1.0);
+        if (tx.specular.present() && !keys.count("Ks")) m.rhoS = Color(1.0);
+        if (tx.exponent.present() && !keys.count("Ns")) m.exponent = 1000;
+        if (tx.emission.present() && !keys.count("Ke")) m.emission = Color(1.0);
         scene.materials.push_back(m);
     }
     const auto defaultIndex = static_cast<std::uint32_t>(scene.materials.size());
@@ -203,14 +271,17 @@ Scene loadObj(const std::string& path) {
                 continue;
             }
             Triangle t;
-            bool allNormals = true;
+            bool allNormals = true, allUvs = true;
             for (unsigned k = 0; k < 3; ++k) {
                 const tinyobj::index_t& idx = mesh.indices[offset + k];
                 t.v[k] = static_cast<std::uint32_t>(idx.vertex_index);
                 t.n[k] = idx.normal_index;
+                t.t[k] = idx.texcoord_index;
                 allNormals = allNormals && idx.normal_index >= 0;
+                allUvs = allUvs && idx.texcoord_index >= 0 && static_cast<std::size_t>(idx.texcoord_index) < scene.uvs.size();
             }
             if (!allNormals) t.n = {-1, -1, -1};
+            if (!allUvs) t.t = {-1, -1, -1};
             const int mid = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
             if (mid >= 0 && static_cast<std::size_t>(mid) < defaultIndex) {
                 t.material = static_cast<std::uint32_t>(mid);

@@ -68,6 +68,13 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
     if (scene.materials.empty()) throw InputError(fmt::format("{}: the scene has no materials", source));
     for (PhongMaterial& m : scene.materials) {
         try {
+            if (m.textures.reflectance()) {
+                // Textured: the constants are factors of the maps; rho_d + rho_s is kept <= 1 point by point
+                // (scene/surface.h), so here they are only checked.
+                PhongMaterial copy = m;
+                validateAndClampPhong(copy);
+                continue;
+            }
             if (validateAndClampPhong(m))
                 scene.warnings.push_back(fmt::format(
                     "{}: material '{}' reflects more than it receives (Kd + Ks > 1); scaled down to Kd = ({:.3g}, {:.3g}, {:.3g}), Ks = ({:.3g}, {:.3g}, {:.3g})",
@@ -97,6 +104,9 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
         throw InputError(fmt::format("{}: camera position and target coincide", source));
     if (length(cross(c.target - c.position, c.up)) == 0)
         throw InputError(fmt::format("{}: camera up vector is parallel to the viewing direction", source));
+    for (const Triangle& t : scene.triangles)
+        for (std::int32_t i : t.t)
+            if (i >= static_cast<std::int64_t>(scene.uvs.size())) throw InputError(fmt::format("{}: a texture coordinate index is out of range", source));
     if (!scene.hasEmitter() && !environmentGiven) {
         scene.sky = Sky{};
         scene.lights.push_back(defaultSun());

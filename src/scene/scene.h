@@ -1,13 +1,17 @@
 // scene/ — what is rendered: triangles with Phong materials, emitters, a camera and an environment
 // radiance. Owns the built-in Cornell box and the loaders for Wavefront OBJ/MTL (through tinyobjloader)
 // and JSON scene files (through nlohmann-json); validates every number it reads, so the layers below
-// never see a NaN, a negative albedo or an out-of-range index.
+// never see a NaN, a negative albedo or an out-of-range index. Textures on materials and the lookups that
+// turn them into Phong parameters at a point are in scene/surface.h; lat-long environment maps and their
+// importance sampling in scene/environment_map.h.
 #pragma once
 
 #include "materials/phong.h"
 #include "math/vec3.h"
+#include "scene/environment_map.h"
 #include "scene/light.h"
 #include "scene/sky.h"
+#include "texture/texture.h"
 
 #include <array>
 #include <cstdint>
@@ -28,18 +32,22 @@ struct Triangle {
     std::array<std::uint32_t, 3> v{};        ///< indices into Scene::positions
     std::array<std::int32_t, 3> n{-1, -1, -1};  ///< indices into Scene::normals, -1 when absent
     std::uint32_t material = 0;
+    std::array<std::int32_t, 3> t{-1, -1, -1};  ///< indices into Scene::uvs, -1 when absent
 };
 
 struct Scene {
     std::string name = "scene";
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;  ///< optional smoothing normals (unit length)
+    std::vector<std::array<double, 2>> uvs;  ///< optional texture coordinates (u right, v up)
     std::vector<Triangle> triangles;
     std::vector<PhongMaterial> materials;
+    std::vector<Texture> textures;  ///< what the materials' TextureRefs index
     std::vector<Light> lights;  ///< point, spot and directional lights (emissive triangles are materials)
     Camera camera;
     Color environment{0.0};  ///< radiance arriving from directions that leave the scene
     std::optional<Sky> sky;  ///< when set, rays that leave the scene see the sky instead of `environment`
+    std::optional<EnvironmentMap> environmentMap;  ///< when set, they see this image (and it is light-sampled)
     std::vector<std::string> warnings;
 
     /// Axis-aligned bounds of the positions.
@@ -53,7 +61,12 @@ struct Scene {
     /// from the +Z side; any other from a three-quarter view (from +X+Z, 20 degrees above), +Y up.
     Camera automaticCamera(double fovY = 40.0) const;
     /// Radiance arriving along unit direction d from outside the scene.
-    Color environmentRadiance(const Vec3& d) const { return sky ? skyRadiance(*sky, d) : environment; }
+    Color environmentRadiance(const Vec3& d) const {
+        if (environmentMap) return environmentMap->radiance(d);
+        return sky ? skyRadiance(*sky, d) : environment;
+    }
+    /// Whether some material has a cut-out (alpha) texture.
+    bool hasCutOuts() const;
 };
 
 /// The built-in Cornell box: the original Cornell geometry (0..556 units, the 130 x 105 light just

@@ -1,0 +1,215 @@
+// Environment maps (scene/environment_map.h, sampling/distribution2d.h, their light sampling in
+// render/path_tracer): the sampler's density integrates to 1 over the sphere and its directions pass a
+// chi-square test against it; a map of constant value renders the same image as the constant
+// environment with every estimator (light sampling + MIS against each); a map black but for one texel
+// lights a plane with the irradiance of that texel's solid angle; JSON errors.
+#include "stats.h"
+#include "test_util.h"
+
+#include "io/image.h"
+#include "io/input_error.h"
+#include "scene/environment_map.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace symphong;
+using symphong::test::integrateOverSphere;
+
+namespace {
+
+Texture constantImage(int w, int h, double value) {
+    return Texture("constant", w, h, 3, std::vector<float>(static_cast<std::size_t>(w * h * 3), static_cast<float>(value)));
+}
+
+/// A map with smoothly varying, strictly positive texels and one bright one.
+Texture variedImage(int w, int h) {
+    std::vector<float> t(static_cast<std::size_t>(w * h * 3));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                t[static_cast<std::size_t>((y * w + x) * 3 + c)] = static_cast<float>(0.2 + 0.15 * std::sin(0.7 * x + c) + 0.1 * y + (x == 3 && y == 2 ? 20 : 0));
+    return Texture("varied", w, h, 3, std::move(t));
+}
+
+/// A floor (glossy) with a block standing on it, seen from above at an angle.
+Scene floorWithBlock() {
+    Scene s;
+    PhongMaterial floor;
+    floor.name = "floor";
+    floor.rhoD = Color(0.5);
+    floor.rhoS = Color(0.3);
+    floor.exponent = 20;
+    PhongMaterial block;
+    block.name = "block";
+    block.rhoD = Color(0.7, 0.5, 0.3);
+    s.materials = {floor, block};
+    test::addQuad(s, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}, 0);
+    const double h = 0.8;
+    test::addQuad(s, {-0.5, h, 0.5}, {0.5, h, 0.5}, {0.5, h, -0.5}, {-0.5, h, -0.5}, 1);   // top
+    test::addQuad(s, {-0.5, 0, 0.5}, {0.5, 0, 0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}, 1);     // front
+    test::addQuad(s, {0.5, 0, 0.5}, {0.5, 0, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, 1);     // right
+    test::addQuad(s, {-0.5, 0, -0.5}, {-0.5, 0, 0.5}, {-0.5, h, 0.5}, {-0.5, h, -0.5}, 1); // left
+    s.camera.position = Vec3(1.5, 2.5, 3.5);
+    s.camera.target = Vec3(0, 0.2, 0);
+    s.camera.fovY = 45;
+    return s;
+}
+
+RenderResult renderIndependent(const Scene& s, const std::string& estimator, int size, std::uint32_t spp, std::uint64_t seed, bool nee = true) {
+    const Accel accel(s);
+    const auto est = makeEstimator(estimator);
+    RenderSettings rs;
+    rs.width = rs.height = size;
+    rs.spp = spp;
+    rs.seed = seed;
+    rs.sampler = "independent";
+    rs.trace.nextEvent = nee;
+    return render(s, accel, *est, rs);
+}
+
+}  // namespace
+
+TEST(EnvironmentMap, MappingRoundTripsAndPutsTheImageCentreAtMinusZ) {
+    const EnvironmentMap env(variedImage(16, 8), 1.0, 30.0, EnvironmentMap::Filter::Nearest);
+    Rng rng(1, 2);
+    for (int i = 0; i < 1000; ++i) {
+        const double u = rng.uniform(), t = 0.01 + 0.98 * rng.uniform();
+        double u2, t2;
+        env.toImage(env.fromImage(u, t), u2, t2);
+        EXPECT_NEAR(u, u2, 1e-9);
+        EXPECT_NEAR(t, t2, 1e-9);
+    }
+    const EnvironmentMap plain(variedImage(16, 8), 1.0, 0.0, EnvironmentMap::Filter::Nearest);
+    const Vec3 centre = plain.fromImage(0.5, 0.5);
+    EXPECT_NEAR(centre.z, -1.0, 1e-12);
+    EXPECT_NEAR(plain.fromImage(0.3, 0.0).y, 1.0, 1e-12);  // the top row is the zenith
+}
+
+TEST(EnvironmentMap, SamplerDensityIntegratesToOneAndMatchesItsDirections) {
+    for (const auto filter : {EnvironmentMap::Filter::Nearest, EnvironmentMap::Filter::Bilinear}) {
+        const EnvironmentMap env(variedImage(16, 8), 1.0, 10.0, filter);
+        const auto pdf = [&](const Vec3& d) { return env.pdf(d); };
+        EXPECT_NEAR(integrateOverSphere(pdf, 1600, 640), 1.0, 2e-3);
+        Rng rng(7, 1);
+        std::vector<Vec3> dirs;
+        for (int i = 0; i < 200000; ++i) {
+            double p;
+            const Vec3 d = env.sample(rng.uniform2(), p);
+            ASSERT_GT(p, 0);
+            ASSERT_NEAR(p, env.pdf(d), 1e-6 * p) << "sample() and pdf() disagree";
+            dirs.push_back(d);
+        }
+        // Chi-square over the image's texels, each split in 2 x 2 (the density is constant over a texel
+        // in image coordinates, where a sub-cell's share is a quarter of its texel's). The texels' own
+        // probabilities come from integrating pdf(w) over their solid angle, not from the sampler's table.
+        const int w = env.image().width(), h = env.image().height();
+        std::vector<double> observed(static_cast<std::size_t>(4 * w * h), 0.0), expected(observed.size(), 0.0);
+        for (const Vec3& d : dirs) {
+            double u, t;
+            env.toImage(d, u, t);
+            const int sx = std::min(2 * w - 1, static_cast<int>(u * 2 * w)), sy = std::min(2 * h - 1, static_cast<int>(t * 2 * h));
+            observed[static_cast<std::size_t>(sy * 2 * w + sx)] += 1;
+        }
+        double total = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const Vec3 centre = env.fromImage((x + 0.5) / w, (y + 0.5) / h);
+                const double p = env.pdf(centre) * std::sin(kPi * (y + 0.5) / h) * (2 * kPi * kPi) / (w * h);  // image-space probability
+                total += p;
+                for (int k = 0; k < 4; ++k)
+                    expected[static_cast<std::size_t>((2 * y + k / 2) * 2 * w + 2 * x + k % 2)] = p / 4 * static_cast<double>(dirs.size());
+            }
+        EXPECT_NEAR(total, 1.0, 1e-9);
+        const auto r = test::chiSquareCounts(observed, expected, test::sidakAlpha(2));
+        EXPECT_TRUE(r.passed) << filterName(filter) << ": " << r.describe();
+    }
+}
+
+TEST(EnvironmentMap, LuminanceIntegralOfAConstantMapIsFourPiL) {
+    const EnvironmentMap env(constantImage(8, 4, 0.5), 2.0, 0.0, EnvironmentMap::Filter::Bilinear);
+    EXPECT_NEAR(env.luminanceIntegral(), 4 * kPi * 1.0, 1e-9);
+    EXPECT_NEAR(env.radiance(normalize(Vec3(0.3, -0.4, 0.2))).y, 1.0, 1e-12);
+}
+
+// The same scene under a constant environment L (only reached by the estimators' paths) and under a
+// lat-long map of value L (light-sampled and combined by MIS with each estimator): the same image mean.
+TEST(EnvironmentMap, ConstantMapRendersAsTheConstantEnvironmentWithEveryEstimator) {
+    Scene constant = floorWithBlock();
+    constant.environment = Color(0.7);
+    Scene mapped = floorWithBlock();
+    mapped.environmentMap.emplace(constantImage(8, 4, 0.7), 1.0, 0.0, EnvironmentMap::Filter::Bilinear);
+    for (const std::string estimator : {"uniform", "cosine", "phong", "symmetric", "symmetric-shifted"}) {
+        const auto [a, sa] = test::imageMeanAndError(renderIndependent(constant, estimator, 24, 16, 11));
+        const auto [b, sb] = test::imageMeanAndError(renderIndependent(mapped, estimator, 24, 16, 12));
+        EXPECT_NEAR(a, b, 4 * std::hypot(sa, sb)) << estimator << ": se " << sa << ", " << sb;
+        EXPECT_GT(a, 0.1) << estimator;
+    }
+    // The paper's estimator has no density, so the map is not light-sampled: still the same light.
+    const auto [a, sa] = test::imageMeanAndError(renderIndependent(constant, "cosine", 24, 16, 13, false));
+    const auto [b, sb] = test::imageMeanAndError(renderIndependent(mapped, "cosine", 24, 16, 14, false));
+    EXPECT_NEAR(a, b, 4 * std::hypot(sa, sb)) << "without light sampling";
+}
+
+// One texel of radiance Lp at row y, everything else black; nearest filtering. A diffuse plane facing
+// up receives E = Lp dphi integral_{theta0}^{theta1} cos(theta) sin(theta) dtheta
+//              = Lp (2 pi / W) (sin^2 theta1 - sin^2 theta0) / 2,
+// and sends back rho_d E / pi everywhere.
+TEST(EnvironmentMap, OneBrightTexelLightsAPlaneWithItsSolidAngle) {
+    const int w = 16, h = 8, bx = 5, by = 2;
+    const double lp = 50, rho = 0.6;
+    std::vector<float> t(static_cast<std::size_t>(w * h * 3), 0.0f);
+    for (int c = 0; c < 3; ++c) t[static_cast<std::size_t>((by * w + bx) * 3 + c)] = static_cast<float>(lp);
+    Scene s;
+    PhongMaterial m;
+    m.rhoD = Color(rho);
+    s.materials = {m};
+    test::addQuad(s, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}, 0);
+    s.camera.position = Vec3(0, 3, 0.001);
+    s.camera.target = Vec3(0, 0, 0);
+    s.camera.fovY = 30;
+    s.environmentMap.emplace(Texture("one", w, h, 3, std::move(t)), 1.0, 0.0, EnvironmentMap::Filter::Nearest);
+    const double th0 = kPi * by / h, th1 = kPi * (by + 1) / h;
+    const double e = lp * (kTwoPi / w) * 0.5 * (std::pow(std::sin(th1), 2) - std::pow(std::sin(th0), 2));
+    const double expected = rho * e / kPi;
+    for (const std::string estimator : {"cosine", "phong"}) {
+        const auto [mean, se] = test::imageMeanAndError(renderIndependent(s, estimator, 16, 64, 21));
+        EXPECT_NEAR(mean, expected, 4 * se + 1e-9) << estimator << ": se " << se;
+        EXPECT_LT(se, 0.02 * expected) << estimator << ": the map's light sampling should find the texel";
+    }
+}
+
+TEST(EnvironmentMap, JsonScenesNameTheMapAndItsErrors) {
+    test::TempDir dir;
+    Image img(8, 4);
+    for (auto& p : img.pixels) p = Color(0.5);
+    writeExr(img, dir.file("sky.exr"));
+    const std::string scene = std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-classic.obj";
+    const auto json = [&](const std::string& env) {
+        return dir.write("s.json", "{\"mesh\": \"" + scene + "\", \"environment\": " + env + "}");
+    };
+    const Scene s = loadScene(json(R"({"map": ")" + dir.file("sky.exr") + R"(", "scale": 2, "rotation": 90, "filter": "nearest"})"));
+    ASSERT_TRUE(s.environmentMap.has_value());
+    EXPECT_DOUBLE_EQ(s.environmentMap->scale(), 2.0);
+    EXPECT_EQ(s.environmentMap->filter(), EnvironmentMap::Filter::Nearest);
+    EXPECT_FALSE(s.sky.has_value());  // a map is light: no default sky
+    EXPECT_NEAR(s.environmentRadiance(Vec3(0, 1, 0)).x, 1.0, 1e-6);
+    const auto expectError = [&](const std::string& env, const std::string& needle) {
+        try {
+            loadScene(json(env));
+            ADD_FAILURE() << env << " was accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    expectError(R"({"map": "absent.hdr"})", "absent.hdr: no such file");
+    expectError(R"({"map": ")" + dir.file("sky.exr") + R"(", "filter": "cubic"})", "environment.filter");
+    expectError(R"({"map": ")" + dir.file("sky.exr") + R"(", "scale": -1})", "environment.scale");
+    expectError(R"({"map": ")" + dir.file("sky.exr") + R"(", "blur": 1})", "unknown key 'blur'");
+    expectError(R"({"scale": 1})", "environment.map");
+    Image neg(2, 1);
+    neg.at(1, 0) = Color(0, -1, 0);
+    writeExr(neg, dir.file("neg.exr"));
+    expectError(R"({"map": ")" + dir.file("neg.exr") + R"("})", "neg.exr: texel (1, 0) channel 1 is -1");
+}
