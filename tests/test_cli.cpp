@@ -79,6 +79,19 @@ TEST_F(Cli, InfoPrintsWhatWasLoaded) {
     expectBadInput({"info", out("missing.obj")}, "no such file");
 }
 
+TEST_F(Cli, InfoListsTexturesMapsAndTheEnvironmentMap) {
+    const CliRun r = runArgs({"info", std::string(SYMPHONG_SOURCE_DIR) + "/scenes/textured.json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("environment HDR map "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("sky.hdr (512 x 256), scale 1, rotation 0 degrees, bilinear filtering"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("textures    5 ("), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("64 x 64, 3 channels, wrap repeat/repeat: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("128 x 128, 1 channel, wrap repeat/repeat: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("maps: rho_d = texture 2, rho_s = texture 3 (times the constants above)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("maps: cut-out = texture 4"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("warnings    0"), std::string::npos) << r.out;
+}
+
 TEST_F(Cli, RendersTheDefaultSceneToPngAndExr) {
     const CliRun png = runArgs({"render", "--spp", "2", "-W", "16", "-H", "12", "-o", out("c.png")});
     ASSERT_EQ(png.code, 0) << png.err;

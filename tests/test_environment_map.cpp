@@ -9,6 +9,7 @@
 #include "io/image.h"
 #include "io/input_error.h"
 #include "scene/environment_map.h"
+#include "study/metrics.h"
 
 #include <gtest/gtest.h>
 
@@ -150,6 +151,47 @@ TEST(EnvironmentMap, ConstantMapRendersAsTheConstantEnvironmentWithEveryEstimato
     const auto [a, sa] = test::imageMeanAndError(renderIndependent(constant, "cosine", 24, 16, 13, false));
     const auto [b, sb] = test::imageMeanAndError(renderIndependent(mapped, "cosine", 24, 16, 14, false));
     EXPECT_NEAR(a, b, 4 * std::hypot(sa, sb)) << "without light sampling";
+}
+
+// The white furnace: a convex diffuse sphere of albedo 1 under a constant environment L sends back L
+// from every point, so it vanishes against the background. Under a constant *map* (light-sampled and
+// MIS-combined) it must vanish as well, with every estimator; so must a sphere of albedo 0.5 at L/2.
+TEST(EnvironmentMap, WhiteFurnaceSphereUnderAConstantMapVanishes) {
+    for (const double albedo : {1.0, 0.5}) {
+        Scene s;
+        PhongMaterial m;
+        m.rhoD = Color(albedo);
+        s.materials = {m};
+        const int stacks = 24, slices = 48;
+        for (int i = 0; i <= stacks; ++i)
+            for (int j = 0; j < slices; ++j) {
+                const double th = kPi * i / stacks, ph = kTwoPi * j / slices;
+                s.positions.emplace_back(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+            }
+        const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * slices + (j % slices)); };
+        for (int i = 0; i < stacks; ++i)
+            for (int j = 0; j < slices; ++j) {  // counter-clockwise seen from outside
+                if (i > 0) s.triangles.push_back({{at(i, j), at(i, j + 1), at(i + 1, j)}, {-1, -1, -1}, 0});
+                if (i + 1 < stacks) s.triangles.push_back({{at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)}, {-1, -1, -1}, 0});
+            }
+        s.camera.position = Vec3(0, 0.5, 3);
+        s.camera.target = Vec3(0, 0, 0);
+        s.camera.fovY = 30;  // the sphere fills most of the view, every pixel sees it
+        s.environmentMap.emplace(constantImage(16, 8, 0.8), 1.0, 25.0, EnvironmentMap::Filter::Bilinear);
+        for (const std::string estimator : {"cosine", "phong", "symmetric"}) {
+            const RenderResult r = renderIndependent(s, estimator, 16, 16, 31);
+            if (albedo == 1.0) {
+                // Background pixels see L, sphere pixels albedo x L = L: the whole image is L.
+                const auto [mean, se] = test::imageMeanAndError(r);
+                EXPECT_NEAR(mean, 0.8, 4 * se) << estimator << ": se " << se;
+            }
+            // The central 8 x 8 pixels see only the sphere: albedo x L there.
+            double sum = 0, var = 0;
+            for (int y = 4; y < 12; ++y)
+                for (int x = 4; x < 12; ++x) sum += luminance(r.image.at(x, y)), var += luminanceVariance(r.variance.at(x, y));
+            EXPECT_NEAR(sum / 64, albedo * 0.8, 4 * std::sqrt(var) / 64) << estimator << ", albedo " << albedo;
+        }
+    }
 }
 
 // One texel of radiance Lp at row y, everything else black; nearest filtering. A diffuse plane facing

@@ -88,6 +88,10 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
     r->footer(
         "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), a .gltf, .glb, .ply,\n"
         ".fbx, .dae or .3ds file (read through Assimp, with its camera and lights), or a .json scene file.\n"
+        "Texture maps (MTL map_Kd/Ks/Ns/d/Ke; glTF base colour, metallic-roughness, emissive, alpha mask) are read from\n"
+        "PNG, JPEG, HDR or EXR; a missing texture file is a warning, a corrupt one an error. A JSON scene's\n"
+        "\"environment\": {\"map\": \"sky.hdr\"} lights the scene with a lat-long HDR image (docs/scene-format.md).\n"
+        "A mesh or texture that would need more than 3/4 of this machine's memory is refused before it is read.\n"
         "PNG output is 8-bit sRGB: linear radiance is multiplied by --exposure, clamped to [0,1], then sRGB-encoded.\n"
         "EXR output is linear RGB, 32-bit float (16-bit half with --exr-half).\n"
         "The same --seed gives the same image, bit for bit, at any --threads, with every sampler.\n"

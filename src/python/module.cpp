@@ -541,6 +541,37 @@ Scene(spec) is load_scene(spec). The acceleration structure is built on the firs
                 return d;
             },
             "the default sky (dict: zenith, horizon, ground, up) when the scene brought no light of its own, else None")
+        .def_property_readonly(
+            "environment_map",
+            [](const PyScene& s) -> py::object {
+                if (!s.scene().environmentMap) return py::none();
+                const EnvironmentMap& e = *s.scene().environmentMap;
+                py::dict d;
+                d["file"] = e.image().name();
+                d["width"] = e.image().width();
+                d["height"] = e.image().height();
+                d["scale"] = e.scale();
+                d["rotation"] = e.rotationDegrees();
+                d["filter"] = std::string(filterName(e.filter()));
+                return d;
+            },
+            "the HDR lat-long environment (dict: file, width, height, scale, rotation, filter) when the scene has one, else None")
+        .def_property_readonly(
+            "textures",
+            [](const PyScene& s) {
+                py::list out;
+                for (const Texture& t : s.scene().textures) {
+                    py::dict d;
+                    d["file"] = t.name();
+                    d["width"] = t.width();
+                    d["height"] = t.height();
+                    d["channels"] = t.channels();
+                    d["wrap"] = py::make_tuple(std::string(wrapModeName(t.wrapU)), std::string(wrapModeName(t.wrapV)));
+                    out.append(d);
+                }
+                return out;
+            },
+            "list of dicts: file, width, height, channels, wrap (u, v): the textures the materials use")
         .def_property_readonly("has_emitter", [](const PyScene& s) { return s.scene().hasEmitter(); })
         .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; }, "the loader's non-fatal notes")
         .def("__repr__", [](const PyScene& s) {

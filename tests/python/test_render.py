@@ -1,4 +1,6 @@
 """render(): shapes, dtype, bit-identity with the command line's EXR, stats, variance."""
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -104,6 +106,17 @@ def test_scene_attributes(sym, shared_scenes):
     assert bunny.sky is not None and scene.sky is None, "a bare model gets the default sky"
     assert [l["type"] for l in bunny.lights] == ["directional"] and bunny.lights[0]["direction"][1] < 0, "and its sun"
     assert any("default sky" in w for w in bunny.warnings), bunny.warnings
+    assert scene.environment_map is None and scene.textures == []
+
+
+def test_textures_and_environment_map(sym):
+    scene = sym.load_scene(str(REPO / "scenes" / "textured.json"))
+    env = scene.environment_map
+    assert env is not None and env["file"].endswith("sky.hdr") and (env["width"], env["height"]) == (512, 256)
+    assert env["filter"] == "bilinear" and env["scale"] == 1.0
+    files = sorted(pathlib.Path(t["file"]).name for t in scene.textures)
+    assert files == ["checker.png", "globe.png", "holes.png", "planks-gloss.png", "planks.png"], files
+    assert all(t["wrap"] == ("repeat", "repeat") for t in scene.textures)
 
 
 def test_names(sym):
