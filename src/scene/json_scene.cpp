@@ -20,6 +20,28 @@ namespace {
 
 using nlohmann::json;
 
+/// A value for a message: its JSON text, cut at 60 characters (a huge or deeply nested value would
+/// make a huge message; the document's depth is limited before any of this runs).
+std::string brief(const json& j) {
+    std::string text = j.dump();
+    if (text.size() > 60) text = text.substr(0, 57) + "...";
+    return text;
+}
+
+/// The deepest nesting of arrays and objects in j, found without recursion.
+std::size_t nestingDepth(const json& root) {
+    std::size_t deepest = 0;
+    std::vector<std::pair<const json*, std::size_t>> stack{{&root, 0}};
+    while (!stack.empty()) {
+        const auto [j, depth] = stack.back();
+        stack.pop_back();
+        deepest = std::max(deepest, depth);
+        if (j->is_structured())
+            for (const json& child : *j) stack.emplace_back(&child, depth + 1);
+    }
+    return deepest;
+}
+
 void checkKeys(const json& obj, const std::set<std::string>& allowed, const std::string& where, const std::string& path) {
     if (!obj.is_object()) throw InputError(fmt::format("{}: {} must be a JSON object", path, where));
     for (const auto& item : obj.items())
@@ -31,7 +53,7 @@ void checkKeys(const json& obj, const std::set<std::string>& allowed, const std:
 }
 
 double number(const json& j, const std::string& where, const std::string& path) {
-    if (!j.is_number()) throw InputError(fmt::format("{}: {} must be a number, got {}", path, where, j.dump()));
+    if (!j.is_number()) throw InputError(fmt::format("{}: {} must be a number, got {}", path, where, brief(j)));
     const double v = j.get<double>();
     if (!std::isfinite(v)) throw InputError(fmt::format("{}: {} is not finite", path, where));
     return v;
@@ -43,13 +65,13 @@ Vec3 vec3(const json& j, const std::string& where, const std::string& path) {
         return Vec3(v);
     }
     if (!j.is_array() || j.size() != 3)
-        throw InputError(fmt::format("{}: {} must be an array of 3 numbers, got {}", path, where, j.dump()));
+        throw InputError(fmt::format("{}: {} must be an array of 3 numbers, got {}", path, where, brief(j)));
     return {number(j[0], where, path), number(j[1], where, path), number(j[2], where, path)};
 }
 
 Color nonNegativeColor(const json& j, const std::string& where, const std::string& path) {
     const Color c = vec3(j, where, path);
-    if (minComponent(c) < 0) throw InputError(fmt::format("{}: {} has a negative value {}", path, where, j.dump()));
+    if (minComponent(c) < 0) throw InputError(fmt::format("{}: {} has a negative value {}", path, where, brief(j)));
     return c;
 }
 
@@ -139,7 +161,15 @@ Scene loadJsonScene(const std::string& path) {
         std::string what = e.what();
         if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
         throw InputError(fmt::format("{}:{}:{}: malformed JSON: {}", path, line, byte - lineStart + 1, what));
+    } catch (const json::exception& e) {
+        // Not a syntax error but a value nlohmann cannot hold (a number beyond double, e.g. 1e400).
+        std::string what = e.what();
+        if (const auto bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
+        throw InputError(fmt::format("{}: malformed JSON: {}", path, what));
     }
+    // Deeper than any scene needs; also keeps every recursive walk of the document (dump) shallow.
+    constexpr std::size_t kMaxDepth = 32;
+    if (nestingDepth(doc) > kMaxDepth) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", path, kMaxDepth));
     checkKeys(doc, {"obj", "mesh", "builtin", "camera", "materials", "environment", "name", "lights"}, "the scene", path);
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
 
@@ -168,7 +198,7 @@ Scene loadJsonScene(const std::string& path) {
         }
     } else {
         if (doc["builtin"] != "cornell")
-            throw InputError(fmt::format("{}: unknown builtin scene {} (valid: \"cornell\")", path, doc["builtin"].dump()));
+            throw InputError(fmt::format("{}: unknown builtin scene {} (valid: \"cornell\")", path, brief(doc["builtin"])));
         scene = makeCornellBox();
         cameraFromData = true;
     }
@@ -236,7 +266,7 @@ Scene loadJsonScene(const std::string& path) {
             if (e.contains("filter")) {
                 if (e["filter"] == "nearest") filter = EnvironmentMap::Filter::Nearest;
                 else if (e["filter"] != "bilinear")
-                    throw InputError(fmt::format("{}: environment.filter {} is not \"bilinear\" or \"nearest\"", path, e["filter"].dump()));
+                    throw InputError(fmt::format("{}: environment.filter {} is not \"bilinear\" or \"nearest\"", path, brief(e["filter"])));
             }
             try {
                 scene.environmentMap.emplace(loadTextureFile(file.string(), TextureEncoding::Linear), scale, rotation, filter);

@@ -39,18 +39,27 @@ std::string trim(const std::string& s) {
     return s.substr(b, e - b + 1);
 }
 
-/// Parses a whole token as a finite double; false otherwise.
+/// Parses a whole token as a finite double that single precision can hold (tinyobjloader keeps
+/// floats; a larger value would overflow its conversion); false otherwise.
 bool parseFinite(const std::string& token, double& value) {
     errno = 0;
     char* end = nullptr;
     value = std::strtod(token.c_str(), &end);
-    return end != token.c_str() && *end == '\0' && std::isfinite(value);
+    return end != token.c_str() && *end == '\0' && std::isfinite(value) && std::abs(value) <= 3.0e38;
 }
 
 /// Calls fn(lineNumber, words) for each non-empty, non-comment line of a text.
 template <class Fn>
 void forEachLine(const std::string& text, Fn&& fn) {
-    std::istringstream in(text);
+    // Lines end at \n, \r\n or a lone \r, as tinyobjloader reads them (a lone \r must not hide a line
+    // from this check that tinyobjloader then parses).
+    std::string normalized = text;
+    for (std::size_t i = 0; i < normalized.size(); ++i)
+        if (normalized[i] == '\r') {
+            if (i + 1 < normalized.size() && normalized[i + 1] == '\n') normalized[i] = ' ';
+            else normalized[i] = '\n';
+        }
+    std::istringstream in(normalized);
     std::string line;
     int number = 0;
     while (std::getline(in, line)) {
@@ -84,7 +93,7 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
             for (std::size_t i = 1; i < w.size(); ++i) {
                 double value;
                 if (!parseFinite(w[i], value))
-                    throw InputError(fmt::format("{}:{}: {} '{}' is not a finite number", path, line, what, w[i]));
+                    throw InputError(fmt::format("{}:{}: {} '{}' is not a finite number within single precision", path, line, what, w[i]));
             }
         };
         if (key == "v") {
@@ -126,6 +135,15 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
                     if (slash == std::string::npos) break;
                     start = slash + 1;
                 }
+            }
+        } else if (key == "vw") {
+            // Skin weights (unused here): "vw vertex joint weight ...". tinyobjloader parses the ids as int
+            // and the weights as float; refuse what would overflow either.
+            for (std::size_t i = 1; i < w.size(); ++i) {
+                double value;
+                if (!parseFinite(w[i], value) || ((i % 2 == 1) && (value < 0 || value > 2147483647.0 || value != std::floor(value))))
+                    throw InputError(fmt::format("{}:{}: skin weight line value '{}' is not {}", path, line, w[i],
+                                                 i % 2 == 1 ? "an index" : "a finite number"));
             }
         } else if (key == "usemtl" && w.size() >= 2) {
             scan.usedMaterials.insert(trim(w[1]));
@@ -274,6 +292,9 @@ Scene loadObj(const std::string& path) {
             bool allNormals = true, allUvs = true;
             for (unsigned k = 0; k < 3; ++k) {
                 const tinyobj::index_t& idx = mesh.indices[offset + k];
+                if (idx.vertex_index < 0 || static_cast<std::size_t>(idx.vertex_index) >= scene.positions.size() ||
+                    idx.normal_index >= static_cast<int>(scene.normals.size()))
+                    throw InputError(fmt::format("{}: face {} of '{}' has an index out of range", path, f + 1, shape.name));
                 t.v[k] = static_cast<std::uint32_t>(idx.vertex_index);
                 t.n[k] = idx.normal_index;
                 t.t[k] = idx.texcoord_index;

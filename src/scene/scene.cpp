@@ -38,6 +38,7 @@ const char* lightTypeName(Light::Type type) {
 
 bool Scene::hasEmitter() const {
     if (!lights.empty()) return true;
+    if (environmentMap && environmentMap->luminanceIntegral() > 0) return true;
     for (const Triangle& t : triangles)
         if (materials[t.material].isEmissive()) return true;
     return false;
@@ -83,6 +84,17 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
             throw InputError(fmt::format("{}: {}", source, e.what()));
         }
     }
+    // Embree traces in single precision: coordinates beyond 1e30 (or not finite) cannot be converted.
+    constexpr double kMaxCoordinate = 1e30;
+    const auto inRange = [&](const Vec3& v) { return isFinite(v) && std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}) <= kMaxCoordinate; };
+    for (std::size_t i = 0; i < scene.positions.size(); ++i)
+        if (!inRange(scene.positions[i]))
+            throw InputError(fmt::format("{}: vertex {} ({}, {}, {}) is not finite or beyond +-1e30", source, i, scene.positions[i].x, scene.positions[i].y,
+                                         scene.positions[i].z));
+    for (const Vec3& n : scene.normals)
+        if (!isFinite(n)) throw InputError(fmt::format("{}: a shading normal is not finite", source));
+    for (std::size_t i = 0; i < scene.lights.size(); ++i)
+        if (!inRange(scene.lights[i].position)) throw InputError(fmt::format("{}: lights[{}] position is not finite or beyond +-1e30", source, i));
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
         Light& l = scene.lights[i];
         if (!isFinite(l.position) || !isFinite(l.direction) || !isFinite(l.intensity) || minComponent(l.intensity) < 0 ||
@@ -96,8 +108,8 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
     if (!isFinite(scene.environment) || minComponent(scene.environment) < 0)
         throw InputError(fmt::format("{}: environment radiance must be finite and >= 0", source));
     const Camera& c = scene.camera;
-    if (!isFinite(c.position) || !isFinite(c.target) || !isFinite(c.up) || !std::isfinite(c.fovY))
-        throw InputError(fmt::format("{}: camera has a non-finite value", source));
+    if (!inRange(c.position) || !inRange(c.target) || !isFinite(c.up) || !std::isfinite(c.fovY))
+        throw InputError(fmt::format("{}: camera has a non-finite value (or a coordinate beyond +-1e30)", source));
     if (!(c.fovY > 0 && c.fovY < 180))
         throw InputError(fmt::format("{}: camera fov {} must lie in (0, 180) degrees", source, c.fovY));
     if (length(c.target - c.position) == 0)
@@ -126,7 +138,9 @@ bool isAssimpExtension(const std::string& path) {
     return false;
 }
 
-Scene loadScene(const std::string& spec) {
+namespace {
+
+Scene loadSceneUnguarded(const std::string& spec) {
     if (spec == "cornell") {
         Scene s = makeCornellBox();
         finalizeScene(s, spec, false);
@@ -147,6 +161,23 @@ Scene loadScene(const std::string& spec) {
         return s;
     }
     throw InputError(fmt::format("{}: unknown scene (expected 'cornell', a .obj, .gltf, .glb, .ply, .fbx, .dae or .3ds file, or a .json scene file)", spec));
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& spec) {
+    // The loaders check what they can size before they allocate (io/memory.h); what still runs out of
+    // memory (inside a third-party parser) is bad input too, not a crash.
+    try {
+        return loadSceneUnguarded(spec);
+    } catch (const std::bad_alloc&) {
+        throw InputError(fmt::format("{}: ran out of memory while loading it (the scene is too large for this machine)", spec));
+    } catch (const std::length_error&) {
+        throw InputError(fmt::format("{}: ran out of memory while loading it (a size in the file is too large)", spec));
+    } catch (const std::filesystem::filesystem_error& e) {
+        // A path the file names that the file system refuses (too long, a loop of links, ...).
+        throw InputError(fmt::format("{}: {}: {}", spec, e.path1().string(), e.code().message()));
+    }
 }
 
 }  // namespace symphong

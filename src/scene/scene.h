@@ -54,7 +54,7 @@ struct Scene {
     void bounds(Vec3& lo, Vec3& hi) const;
     /// Index of the material with this name, or -1.
     int findMaterial(const std::string& name) const;
-    /// Whether anything emits: an emissive material on a triangle, or a light.
+    /// Whether anything emits: an emissive material on a triangle, a light, or an environment map that is not black.
     bool hasEmitter() const;
     /// A camera for a scene that gives none, framing its bounding sphere: a mesh with emissive triangles
     /// is a set with its own light fixtures (a Cornell box, open towards +Z by convention) and is seen

@@ -113,6 +113,12 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
         const char* why = stbi_failure_reason();
         throw InputError(fmt::format("{}: not an image symphong reads (PNG, JPEG, BMP, TGA, HDR or EXR){}{}", name, why ? ": " : "", why ? why : ""));
     }
+    // No format symphong reads compresses better than about 1000:1 (deflate's limit is 1032:1): a header
+    // that claims far more texels than its bytes can encode is corrupt, and decoding it would only fill
+    // gigabytes with nothing.
+    const std::uint64_t decodedBytes = saturatingMultiply(saturatingMultiply(static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h)), static_cast<std::uint64_t>(comp));
+    if (decodedBytes > saturatingMultiply(size, 2048) + (std::uint64_t{64} << 20))
+        throw InputError(fmt::format("{}: corrupt image: its header claims {} x {} pixels, more than its {} bytes can hold", name, w, h, size));
     const bool hdr = stbi_is_hdr_from_memory(data, len) != 0;
     const bool sixteen = !hdr && stbi_is_16_bit_from_memory(data, len) != 0;
     requireTexelMemory(name, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), static_cast<std::uint64_t>(comp), hdr ? 4 : (sixteen ? 2 : 1));
