@@ -249,3 +249,25 @@ TEST(Assimp, AuthoredFbxLoadsItsGeometryMaterialsCameraAndLight) {
     EXPECT_NEAR(l.intensity.y, 0.9 * 2.5, 1e-5);
     EXPECT_NEAR(l.intensity.z, 0.8 * 2.5, 1e-5);
 }
+
+// The authored FBX against its OBJ twin (the same box, materials and point light, written here): seen by
+// one camera under one environment, the two render the same mean radiance within statistics.
+TEST(Assimp, AuthoredFbxRendersTheMeanOfItsObjTwin) {
+    test::TempDir dir;
+    dir.write("twin.mtl", "newmtl white\nKd 0.7 0.7 0.7\nKs 0.2 0.2 0.2\nNs 20\nnewmtl lamp\nKd 0 0 0\nKs 0 0 0\nNs 1\nKe 5 5 5\n");
+    // Box (0,0,0)-(2,1,3), faces wound outwards; the top is the lamp.
+    dir.write("twin.obj", "mtllib twin.mtl\n"
+                          "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 3\nv 2 0 3\nv 2 1 3\nv 0 1 3\n"
+                          "usemtl white\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 1 5 8 4\n"
+                          "usemtl lamp\nf 4 8 7 3\n");
+    const std::string camera = R"("camera": {"position": [4.5, 3, 7], "target": [1, 0.5, 1.5], "up": [0, 1, 0], "fov": 40}, "environment": 0.3)";
+    const std::string fbx = std::string(SYMPHONG_SOURCE_DIR) + "/tests/data/fbx/box.fbx";
+    const Scene a = loadScene(dir.write("fbx.json", "{\"mesh\": \"" + fbx + "\", " + camera + "}"));
+    const Scene b = loadScene(dir.write("obj.json", "{\"obj\": \"twin.obj\", " + camera +
+                                                        R"(, "lights": [{"type": "point", "position": [1, 2.5, 1.5], "intensity": [2.5, 2.25, 2.0]}]})"));
+    ASSERT_EQ(a.lights.size(), 1u);
+    const auto [ma, sa] = test::imageMeanAndError(renderSmall(a));
+    const auto [mb, sb] = test::imageMeanAndError(renderSmall(b));
+    EXPECT_NEAR(ma, mb, 4 * std::hypot(sa, sb)) << "se " << sa << ", " << sb;
+    EXPECT_GT(mb, 0.3) << "the lamp and the lit box are in view";
+}

@@ -241,7 +241,7 @@ TEST(TexturedRender, CorruptTextureIsAnErrorNamingTheFile) {
 
 // glTF: base colour texture, metallic 0, roughness 1: rho_d = texture, rho_s = 0.04, n = 0 (the table
 // in docs/scene-format.md). The same material as an MTL with Kd 1, map_Kd, Ks 0.04, Ns 0; the two
-// render the same mean within statistics, from a file and from a data URI.
+// render the same mean within statistics, from a file, from a data URI and embedded in a .glb.
 TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
     test::TempDir dir;
     writeChecker(dir.file("checker.png"), 64, 8, 180, 60);
@@ -297,4 +297,30 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
         const auto [mean, se] = test::imageMeanAndError(renderIndependent(g, "phong", 32, 32, 6));
         EXPECT_NEAR(mean, objMean, 4 * std::hypot(se, objSe)) << image.substr(0, 20) << ": se " << se << ", " << objSe;
     }
+
+    // The same as a binary .glb: geometry and the PNG in its BIN chunk, the image named by a buffer view.
+    const std::string png = readTextFile(dir.file("checker.png"));
+    std::string body = bin + png;
+    while (body.size() % 4) body += '\0';
+    std::string json = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+  "materials": [{"name": "checker", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0, "roughnessFactor": 1}}],
+  "textures": [{"source": 0}], "images": [{"bufferView": 3, "mimeType": "image/png"}],
+  "buffers": [{"byteLength": )" + std::to_string(body.size()) + R"(}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 32}, {"buffer": 0, "byteOffset": 80, "byteLength": 12},
+                  {"buffer": 0, "byteOffset": 92, "byteLength": )" + std::to_string(png.size()) + R"(}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+                {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]})";
+    while (json.size() % 4) json += ' ';
+    const auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+    const std::string glb = "glTF" + u32(2) + u32(static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + body.size())) +
+                            u32(static_cast<std::uint32_t>(json.size())) + "JSON" + json + u32(static_cast<std::uint32_t>(body.size())) +
+                            std::string("BIN\0", 4) + body;
+    std::ofstream(dir.file("square.glb"), std::ios::binary) << glb;
+    const Scene g = loadScene(squareJson(dir, "square.glb", "1"));
+    ASSERT_EQ(g.textures.size(), 1u);
+    EXPECT_NE(g.textures[0].name().find("embedded"), std::string::npos) << g.textures[0].name();
+    const auto [mean, se] = test::imageMeanAndError(renderIndependent(g, "phong", 32, 32, 8));
+    EXPECT_NEAR(mean, objMean, 4 * std::hypot(se, objSe)) << "glb: se " << se << ", " << objSe;
 }

@@ -184,6 +184,7 @@ int runRender(const RenderOptions& o, const MpiJob& job) {
     try {
         if (static_cast<long>(o.width) * o.height > kMaxImagePixels)
             throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
+        requireImageMemory(o.width, o.height);
         if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
         estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
         scene = loadScene(o.scene);

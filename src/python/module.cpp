@@ -222,6 +222,7 @@ py::tuple renderPy(const py::object& sceneArg, const std::string& estimatorName,
     s.height = checkedRange<int>("height", height, 1, 16384);
     if (static_cast<long>(s.width) * s.height > kMaxImagePixels)
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", s.width, s.height, kMaxImagePixels));
+    requireImageMemory(s.width, s.height);
     s.trace.maxDepth = checkedRange<int>("max_depth", maxDepth, 0, 1024);
     s.seed = checkedSeed(seed);
     s.threads = checkedRange<int>("threads", threads, 0, 4096);

@@ -1,5 +1,8 @@
 #include "render/renderer.h"
 
+#include "io/memory.h"
+
+#include <fmt/format.h>
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
@@ -11,6 +14,11 @@
 #include <optional>
 
 namespace symphong {
+
+void requireImageMemory(int width, int height) {
+    const std::uint64_t pixels = saturatingMultiply(static_cast<std::uint64_t>(std::max(0, width)), static_cast<std::uint64_t>(std::max(0, height)));
+    requireMemory(saturatingMultiply(pixels, 96), fmt::format("image size {}x{}", width, height));
+}
 
 int tileCount(int width, int height) { return ((width + kRenderTile - 1) / kRenderTile) * ((height + kRenderTile - 1) / kRenderTile); }
 

@@ -18,6 +18,10 @@ namespace symphong {
 /// and the Python module refuse larger sizes as bad input.
 inline constexpr long kMaxImagePixels = 64L * 1024 * 1024;
 
+/// Refuses (InputError) an image whose render buffers (mean, variance and their accumulators, about
+/// 96 bytes a pixel) would need more than io/memory.h allows.
+void requireImageMemory(int width, int height);
+
 /// Images are rendered in square tiles of this many pixels, numbered row by row from the top left.
 inline constexpr int kRenderTile = 16;
 
