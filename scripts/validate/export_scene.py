@@ -5,7 +5,7 @@ PYTHONPATH=build/release/python:
     export_scene.py SCENE OUT.json
 
 Validation compares diffuse scenes only (Cycles has no Phong BRDF): a material with rho_s > 0, a
-point/spot/directional light or the default sky is refused with exit code 2."""
+point/spot/directional light, the default sky, an environment map or a texture is refused with exit code 2."""
 import json
 import sys
 
@@ -26,6 +26,10 @@ def main():
         problems.append(f"{len(scene.lights)} point/spot/directional light(s) (the default sky's sun counts)")
     if scene.sky is not None:
         problems.append("the default sky (the scene has no light)")
+    if scene.environment_map is not None:
+        problems.append("an environment map (not translated for Cycles)")
+    if scene.textures:
+        problems.append(f"{len(scene.textures)} texture(s) (not translated for Cycles)")
     if problems:
         print(f"export_scene: {spec}: not a diffuse scene that Cycles can match: " + "; ".join(problems), file=sys.stderr)
         sys.exit(2)
