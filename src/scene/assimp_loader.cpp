@@ -7,6 +7,7 @@
 // in it, go through scene/surface.h's texture table.
 #include "scene/scene.h"
 
+#include "io/files.h"
 #include "io/input_error.h"
 #include "io/memory.h"
 #include "scene/surface.h"
@@ -30,6 +31,18 @@
 #include <functional>
 #include <iterator>
 
+// Debian's Assimp 5.2 is built with its internal assertions on: a failed one calls
+// Assimp::aiAssertViolation, which aborts the whole process (a malformed Collada <polylist> did; found
+// by fuzzing, docs/reliability.md). This definition replaces the library's for the program (ELF symbol
+// interposition: the executable's definition is found first) by one that throws; Assimp's ReadFile
+// catches the exception and reports a failed import, which becomes an InputError below. (The Python
+// module, loaded with local symbols, cannot replace it: there such a file still aborts.)
+namespace Assimp {
+void aiAssertViolation(const char* expression, const char* file, int line) {
+    throw std::runtime_error(fmt::format("its internal check '{}' failed ({}:{})", expression, file, line));
+}
+}  // namespace Assimp
+
 namespace symphong {
 
 namespace {
@@ -37,11 +50,25 @@ namespace {
 Vec3 toVec3(const aiVector3D& v) { return {v.x, v.y, v.z}; }
 Color toColor(const aiColor3D& c) { return {c.r, c.g, c.b}; }
 
+/// Every node with its world transform, in depth-first pre-order, without recursion (a file may chain
+/// thousands of nodes; the fuzzer found a 6000-deep glTF chain that overflowed a recursive walk).
+std::vector<std::pair<const aiNode*, aiMatrix4x4>> worldTransforms(const aiNode* root) {
+    std::vector<std::pair<const aiNode*, aiMatrix4x4>> out, stack{{root, root->mTransformation}};
+    while (!stack.empty()) {
+        const auto [node, world] = stack.back();
+        stack.pop_back();
+        out.emplace_back(node, world);
+        for (unsigned i = node->mNumChildren; i-- > 0;) stack.emplace_back(node->mChildren[i], world * node->mChildren[i]->mTransformation);
+    }
+    return out;
+}
+
 /// The world transform of every node, by name (cameras and lights are placed by the node of their name).
-void collectTransforms(const aiNode* node, const aiMatrix4x4& parent, std::vector<std::pair<std::string, aiMatrix4x4>>& out) {
-    const aiMatrix4x4 world = parent * node->mTransformation;
-    out.emplace_back(node->mName.C_Str(), world);
-    for (unsigned i = 0; i < node->mNumChildren; ++i) collectTransforms(node->mChildren[i], world, out);
+std::vector<std::pair<std::string, aiMatrix4x4>> namedTransforms(const std::vector<std::pair<const aiNode*, aiMatrix4x4>>& nodes) {
+    std::vector<std::pair<std::string, aiMatrix4x4>> out;
+    out.reserve(nodes.size());
+    for (const auto& [node, world] : nodes) out.emplace_back(node->mName.C_Str(), world);
+    return out;
 }
 
 aiMatrix4x4 nodeTransform(const std::vector<std::pair<std::string, aiMatrix4x4>>& nodes, const aiString& name) {
@@ -173,26 +200,53 @@ PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t in
     return out;
 }
 
-/// The JSON of a .gltf file or of a .glb's JSON chunk; null for other files or when it cannot be read
-/// (Assimp then reports the problem). Assimp 5.2 drops two things that we read here: a material's
+/// The JSON of a .gltf file or of a .glb's JSON chunk; null for other files. A .gltf that is not JSON
+/// (glTF is UTF-8 JSON) or a .glb without a glTF header and JSON chunk is refused here: Assimp 5.2 would
+/// hand it to every other importer by signature, some of which crash or ask for terabytes on such input
+/// (docs/reliability.md). Assimp 5.2 drops two things that we read here: a material's
 /// KHR_materials_emissive_strength, and a camera's exact vertical field of view (it gives yfov x
 /// aspect as the horizontal one).
 nlohmann::json gltfJson(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
     if (ext != ".gltf" && ext != ".glb") return nullptr;
-    std::ifstream in(path, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string bytes = readTextFile(path);
     std::string text = bytes;
     if (ext == ".glb") {
         // Header: magic, version, length; then chunk 0: its length and type ("JSON"), then its bytes.
-        if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || bytes.compare(16, 4, "JSON") != 0) return nullptr;
+        if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || bytes.compare(16, 4, "JSON") != 0)
+            throw InputError(fmt::format("{}: not a glTF binary (no 'glTF' header followed by a JSON chunk)", path));
         std::uint32_t length = 0;
         std::memcpy(&length, bytes.data() + 12, 4);
-        if (length > bytes.size() - 20) return nullptr;
+        if (length > bytes.size() - 20) throw InputError(fmt::format("{}: the glTF binary's JSON chunk runs past the end of the file", path));
         text = bytes.substr(20, length);
     }
-    return nlohmann::json::parse(text, nullptr, false);
+    nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+    if (doc.is_discarded()) throw InputError(fmt::format("{}: not a glTF file (its JSON is malformed or not UTF-8)", path));
+    return doc;
+}
+
+/// Checks what Assimp 5.2's glTF 2 importer does not before it reads through it: every mesh primitive
+/// has a POSITION accessor, and its attribute and index accessors exist (a line-loop primitive without
+/// POSITION made the importer crash; found by fuzzing, docs/reliability.md).
+void checkGltfPrimitives(const nlohmann::json& gltf, const std::string& path) {
+    if (!gltf.is_object() || !gltf.contains("meshes") || !gltf["meshes"].is_array()) return;
+    const std::size_t accessors = gltf.contains("accessors") && gltf["accessors"].is_array() ? gltf["accessors"].size() : 0;
+    const auto validAccessor = [&](const nlohmann::json& a) { return a.is_number_unsigned() && a.get<std::uint64_t>() < accessors; };
+    const nlohmann::json& meshes = gltf["meshes"];
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        if (!meshes[m].is_object() || !meshes[m].contains("primitives") || !meshes[m]["primitives"].is_array()) continue;
+        const nlohmann::json& primitives = meshes[m]["primitives"];
+        for (std::size_t p = 0; p < primitives.size(); ++p) {
+            const nlohmann::json& prim = primitives[p];
+            const std::string where = fmt::format("{}: meshes[{}].primitives[{}]", path, m, p);
+            if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object() || !prim["attributes"].contains("POSITION"))
+                throw InputError(fmt::format("{} has no POSITION attribute", where));
+            for (const auto& item : prim["attributes"].items())
+                if (!validAccessor(item.value())) throw InputError(fmt::format("{}.attributes.{} is not an accessor of the file", where, item.key()));
+            if (prim.contains("indices") && !validAccessor(prim["indices"])) throw InputError(fmt::format("{}.indices is not an accessor of the file", where));
+        }
+    }
 }
 
 /// The value at a JSON pointer, or null when any step of it is missing or of another type.
@@ -209,6 +263,8 @@ nlohmann::json member(const nlohmann::json& j, const std::string& pointer) {
 
 Scene loadAssimp(const std::string& path) {
     if (!std::filesystem::exists(path)) throw MissingFileError(fmt::format("{}: no such file", path));
+    const nlohmann::json gltf = gltfJson(path);
+    checkGltfPrimitives(gltf, path);
     Assimp::Importer importer;
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
@@ -221,7 +277,6 @@ Scene loadAssimp(const std::string& path) {
     TextureTable table(scene);
     for (unsigned i = 0; i < ai->mNumMaterials; ++i) scene.materials.push_back(mapMaterial(*ai, *ai->mMaterials[i], i, table, scene, path));
     if (scene.materials.empty()) scene.materials.push_back(PhongMaterial{});
-    const nlohmann::json gltf = gltfJson(path);
     if (gltf.is_object() && gltf.contains("materials") && gltf["materials"].is_array())
         for (std::size_t i = 0; i < gltf["materials"].size() && i < scene.materials.size(); ++i) {
             const nlohmann::json strength = member(gltf, fmt::format("/materials/{}/extensions/KHR_materials_emissive_strength/emissiveStrength", i));
@@ -229,11 +284,10 @@ Scene loadAssimp(const std::string& path) {
                 scene.materials[i].emission *= strength.get<double>();
         }
 
-    std::vector<std::pair<std::string, aiMatrix4x4>> nodes;
-    collectTransforms(ai->mRootNode, aiMatrix4x4(), nodes);
+    const std::vector<std::pair<const aiNode*, aiMatrix4x4>> placed = worldTransforms(ai->mRootNode);
+    const std::vector<std::pair<std::string, aiMatrix4x4>> nodes = namedTransforms(placed);
     // Every node's meshes, placed by the node's world transform; normals by its inverse transpose.
-    const std::function<void(const aiNode*, const aiMatrix4x4&)> place = [&](const aiNode* node, const aiMatrix4x4& parent) {
-        const aiMatrix4x4 world = parent * node->mTransformation;
+    for (const auto& [node, world] : placed) {
         aiMatrix3x3 normalMatrix(world);
         normalMatrix.Inverse().Transpose();
         for (unsigned k = 0; k < node->mNumMeshes; ++k) {
@@ -276,9 +330,7 @@ Scene loadAssimp(const std::string& path) {
                 scene.triangles.push_back(t);
             }
         }
-        for (unsigned i = 0; i < node->mNumChildren; ++i) place(node->mChildren[i], world);
-    };
-    place(ai->mRootNode, aiMatrix4x4());
+    }
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
 
     std::string extension = std::filesystem::path(path).extension().string();
