@@ -58,17 +58,6 @@ Scene floorWithBlock() {
     return s;
 }
 
-RenderResult renderIndependent(const Scene& s, const std::string& estimator, int size, std::uint32_t spp, std::uint64_t seed, bool nee = true) {
-    const Accel accel(s);
-    const auto est = makeEstimator(estimator);
-    RenderSettings rs;
-    rs.width = rs.height = size;
-    rs.spp = spp;
-    rs.seed = seed;
-    rs.sampler = "independent";
-    rs.trace.nextEvent = nee;
-    return render(s, accel, *est, rs);
-}
 
 }  // namespace
 
@@ -142,14 +131,14 @@ TEST(EnvironmentMap, ConstantMapRendersAsTheConstantEnvironmentWithEveryEstimato
     Scene mapped = floorWithBlock();
     mapped.environmentMap.emplace(constantImage(8, 4, 0.7), 1.0, 0.0, EnvironmentMap::Filter::Bilinear);
     for (const std::string estimator : {"uniform", "cosine", "phong", "symmetric", "symmetric-shifted"}) {
-        const auto [a, sa] = test::imageMeanAndError(renderIndependent(constant, estimator, 24, 16, 11));
-        const auto [b, sb] = test::imageMeanAndError(renderIndependent(mapped, estimator, 24, 16, 12));
+        const auto [a, sa] = test::imageMeanAndError(test::renderIndependent(constant, estimator, 24, 16, 11));
+        const auto [b, sb] = test::imageMeanAndError(test::renderIndependent(mapped, estimator, 24, 16, 12));
         EXPECT_NEAR(a, b, 4 * std::hypot(sa, sb)) << estimator << ": se " << sa << ", " << sb;
         EXPECT_GT(a, 0.1) << estimator;
     }
     // The paper's estimator has no density, so the map is not light-sampled: still the same light.
-    const auto [a, sa] = test::imageMeanAndError(renderIndependent(constant, "cosine", 24, 16, 13, false));
-    const auto [b, sb] = test::imageMeanAndError(renderIndependent(mapped, "cosine", 24, 16, 14, false));
+    const auto [a, sa] = test::imageMeanAndError(test::renderIndependent(constant, "cosine", 24, 16, 13, false));
+    const auto [b, sb] = test::imageMeanAndError(test::renderIndependent(mapped, "cosine", 24, 16, 14, false));
     EXPECT_NEAR(a, b, 4 * std::hypot(sa, sb)) << "without light sampling";
 }
 
@@ -162,24 +151,13 @@ TEST(EnvironmentMap, WhiteFurnaceSphereUnderAConstantMapVanishes) {
         PhongMaterial m;
         m.rhoD = Color(albedo);
         s.materials = {m};
-        const int stacks = 24, slices = 48;
-        for (int i = 0; i <= stacks; ++i)
-            for (int j = 0; j < slices; ++j) {
-                const double th = kPi * i / stacks, ph = kTwoPi * j / slices;
-                s.positions.emplace_back(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
-            }
-        const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * slices + (j % slices)); };
-        for (int i = 0; i < stacks; ++i)
-            for (int j = 0; j < slices; ++j) {  // counter-clockwise seen from outside
-                if (i > 0) s.triangles.push_back({{at(i, j), at(i, j + 1), at(i + 1, j)}, {-1, -1, -1}, 0});
-                if (i + 1 < stacks) s.triangles.push_back({{at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)}, {-1, -1, -1}, 0});
-            }
+        test::addUvSphere(s, 0, true, 24, 48);
         s.camera.position = Vec3(0, 0.5, 3);
         s.camera.target = Vec3(0, 0, 0);
         s.camera.fovY = 30;  // the sphere fills most of the view, every pixel sees it
         s.environmentMap.emplace(constantImage(16, 8, 0.8), 1.0, 25.0, EnvironmentMap::Filter::Bilinear);
         for (const std::string estimator : {"cosine", "phong", "symmetric"}) {
-            const RenderResult r = renderIndependent(s, estimator, 16, 16, 31);
+            const RenderResult r = test::renderIndependent(s, estimator, 16, 16, 31);
             if (albedo == 1.0) {
                 // Background pixels see L, sphere pixels albedo x L = L: the whole image is L.
                 const auto [mean, se] = test::imageMeanAndError(r);
@@ -216,7 +194,7 @@ TEST(EnvironmentMap, OneBrightTexelLightsAPlaneWithItsSolidAngle) {
     const double e = lp * (kTwoPi / w) * 0.5 * (std::pow(std::sin(th1), 2) - std::pow(std::sin(th0), 2));
     const double expected = rho * e / kPi;
     for (const std::string estimator : {"cosine", "phong"}) {
-        const auto [mean, se] = test::imageMeanAndError(renderIndependent(s, estimator, 16, 64, 21));
+        const auto [mean, se] = test::imageMeanAndError(test::renderIndependent(s, estimator, 16, 64, 21));
         EXPECT_NEAR(mean, expected, 4 * se + 1e-9) << estimator << ": se " << se;
         EXPECT_LT(se, 0.02 * expected) << estimator << ": the map's light sampling should find the texel";
     }

@@ -16,6 +16,7 @@
 #include <stb/stb_image_write.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 using namespace symphong;
@@ -54,16 +55,6 @@ std::string squareJson(const test::TempDir& dir, const std::string& mesh, const 
                                         "], \"target\": [0, 0, 0], \"fov\": 40}, \"environment\": " + environment + "}");
 }
 
-RenderResult renderIndependent(const Scene& s, const std::string& estimator, int size, std::uint32_t spp, std::uint64_t seed) {
-    const Accel accel(s);
-    const auto est = makeEstimator(estimator);
-    RenderSettings rs;
-    rs.width = rs.height = size;
-    rs.spp = spp;
-    rs.seed = seed;
-    rs.sampler = "independent";
-    return render(s, accel, *est, rs);
-}
 
 }  // namespace
 
@@ -158,6 +149,20 @@ TEST(TextureIo, CorruptTruncatedAndHugeImagesAreBadInputNamingTheFile) {
     huge.replace(16, 8, reinterpret_cast<const char*>(dims), 8);
     expectError("huge.png", huge, "GiB of memory");
     expectError("bad.exr", std::string("\x76\x2f\x31\x01", 4) + "garbage", "OpenEXR");
+    // Formats stb_image decodes but symphong does not document are refused by name.
+    expectError("grey.pgm", "P5\n2 2\n255\n" + std::string(4, '\x80'), "a PNM (portable anymap) image");
+    expectError("anim.gif", "GIF89a" + std::string(20, '\0'), "a GIF image");
+    // A JPEG Huffman table declaring 510 codes (stb_image 2.27 would write past its tables).
+    std::string jpeg("\xFF\xD8\xFF\xC4\x00\x13\x00", 7);
+    jpeg += std::string("\xFF\xFF", 2) + std::string(14, '\0');
+    expectError("dht.jpg", jpeg, "a Huffman table declares 510 codes");
+    // A BMP header that claims 4000 x 4000 pixels in 70 bytes: truncated, not decoded into zeros.
+    std::string bmp = "BM" + std::string(52, '\0');
+    const auto put32 = [&](std::size_t at, std::uint32_t v) { std::memcpy(&bmp[at], &v, 4); };
+    const auto put16 = [&](std::size_t at, std::uint16_t v) { std::memcpy(&bmp[at], &v, 2); };
+    put32(2, 70), put32(10, 54), put32(14, 40), put32(18, 4000), put32(22, 4000), put16(26, 1), put16(28, 24);
+    bmp += std::string(16, '\x7f');
+    expectError("short.bmp", bmp, "truncated image");
     EXPECT_THROW(loadTextureFile(dir.file("absent.png"), TextureEncoding::Srgb), MissingFileError);
 }
 
@@ -183,7 +188,7 @@ TEST(TexturedRender, MapKdCheckerboardRendersItsLinearMean) {
         ASSERT_EQ(s.textures.size(), 1u);
         const double kd = material == "checker" ? 0.8 : 1.0;  // no Kd: the map alone
         const double expected = 1.5 * kd * 0.5 * (linear8(200) + linear8(50));
-        const RenderResult r = renderIndependent(s, "cosine", 32, 16, 7);
+        const RenderResult r = test::renderIndependent(s, "cosine", 32, 16, 7);
         const auto [mean, se] = test::imageMeanAndError(r);
         // Each 4 x 4 block of pixels sees one checker square exactly; the noise is the pixel jitter
         // across the squares' edges, and a little from round-off.
@@ -203,7 +208,7 @@ TEST(TexturedRender, MapDCutOutShowsTheEnvironmentThroughItsHoles) {
     const Scene s = loadScene(squareJson(dir, "square.obj", "2"));
     ASSERT_TRUE(s.hasCutOuts());
     EXPECT_EQ(s.textures[0].wrapU, WrapMode::Clamp);
-    const RenderResult r = renderIndependent(s, "cosine", 32, 16, 3);
+    const RenderResult r = test::renderIndependent(s, "cosine", 32, 16, 3);
     const auto [mean, se] = test::imageMeanAndError(r);
     // (The pixel grid lines up with the checker's squares, so the estimate is exact here: se = 0.)
     EXPECT_NEAR(mean, 1.0, 4 * se + 1e-3) << "se " << se;
@@ -222,7 +227,7 @@ TEST(TexturedRender, MissingTextureIsAWarningAndTheConstantIsUsed) {
     bool warned = false;
     for (const auto& w : s.warnings) warned = warned || (w.find("nowhere.png") != std::string::npos && w.find("m.mtl:3") != std::string::npos);
     EXPECT_TRUE(warned) << "no warning naming the texture and its MTL line";
-    const auto [mean, se] = test::imageMeanAndError(renderIndependent(s, "cosine", 16, 4, 1));
+    const auto [mean, se] = test::imageMeanAndError(test::renderIndependent(s, "cosine", 16, 4, 1));
     EXPECT_NEAR(mean, 0.25, 1e-6 + 4 * se);
 }
 
@@ -248,7 +253,7 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
     dir.write("m.mtl", "newmtl checker\nKd 1 1 1\nKs 0.04 0.04 0.04\nNs 0\nmap_Kd checker.png\n");
     squareObj(dir, "m.mtl", "checker");
     const Scene obj = loadScene(squareJson(dir, "square.obj", "1"));
-    const auto [objMean, objSe] = test::imageMeanAndError(renderIndependent(obj, "phong", 32, 32, 5));
+    const auto [objMean, objSe] = test::imageMeanAndError(test::renderIndependent(obj, "phong", 32, 32, 5));
 
     // The same square as glTF: positions, uvs (glTF's v runs down the image: v_gltf = 1 - v_obj).
     const float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
@@ -294,7 +299,7 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
         EXPECT_NEAR(at.rhoD.x, linear8(180), 1e-6);
         EXPECT_NEAR(at.rhoS.x, 0.04, 1e-12);
         EXPECT_NEAR(at.exponent, 0.0, 1e-9);
-        const auto [mean, se] = test::imageMeanAndError(renderIndependent(g, "phong", 32, 32, 6));
+        const auto [mean, se] = test::imageMeanAndError(test::renderIndependent(g, "phong", 32, 32, 6));
         EXPECT_NEAR(mean, objMean, 4 * std::hypot(se, objSe)) << image.substr(0, 20) << ": se " << se << ", " << objSe;
     }
 
@@ -321,6 +326,6 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
     const Scene g = loadScene(squareJson(dir, "square.glb", "1"));
     ASSERT_EQ(g.textures.size(), 1u);
     EXPECT_NE(g.textures[0].name().find("embedded"), std::string::npos) << g.textures[0].name();
-    const auto [mean, se] = test::imageMeanAndError(renderIndependent(g, "phong", 32, 32, 8));
+    const auto [mean, se] = test::imageMeanAndError(test::renderIndependent(g, "phong", 32, 32, 8));
     EXPECT_NEAR(mean, objMean, 4 * std::hypot(se, objSe)) << "glb: se " << se << ", " << objSe;
 }

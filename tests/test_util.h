@@ -59,6 +59,26 @@ struct TempDir {
     }
 };
 
+/// Adds a closed UV sphere of radius 1 at the origin with `material`, its triangles wound so that their
+/// counter-clockwise normals point outwards (or inwards).
+inline void addUvSphere(Scene& s, std::uint32_t material, bool outwards, int stacks = 16, int slices = 32) {
+    const auto base = static_cast<std::uint32_t>(s.positions.size());
+    for (int i = 0; i <= stacks; ++i)
+        for (int j = 0; j < slices; ++j) {
+            const double th = kPi * i / stacks, ph = kTwoPi * j / slices;
+            s.positions.emplace_back(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+        }
+    const auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * slices + (j % slices)); };
+    const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        s.triangles.push_back({outwards ? std::array<std::uint32_t, 3>{a, c, b} : std::array<std::uint32_t, 3>{a, b, c}, {-1, -1, -1}, material});
+    };
+    for (int i = 0; i < stacks; ++i)
+        for (int j = 0; j < slices; ++j) {
+            if (i > 0) add(at(i, j), at(i + 1, j), at(i, j + 1));
+            if (i + 1 < stacks) add(at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
+        }
+}
+
 /// A closed UV sphere of radius 1 seen from inside: every triangle faces the centre, emits Le and
 /// reflects diffusely with albedo a. The radiance everywhere inside is Le / (1 - a).
 inline Scene makeFurnaceSphere(double le, double albedo, int stacks = 16, int slices = 32) {
@@ -69,18 +89,7 @@ inline Scene makeFurnaceSphere(double le, double albedo, int stacks = 16, int sl
     m.rhoD = Color(albedo);
     m.emission = Color(le);
     s.materials.push_back(m);
-    for (int i = 0; i <= stacks; ++i)
-        for (int j = 0; j < slices; ++j) {
-            const double th = kPi * i / stacks, ph = kTwoPi * j / slices;
-            s.positions.emplace_back(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
-        }
-    const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * slices + (j % slices)); };
-    for (int i = 0; i < stacks; ++i)
-        for (int j = 0; j < slices; ++j) {
-            // Wound so the counter-clockwise normal points inwards.
-            if (i > 0) s.triangles.push_back({{at(i, j), at(i + 1, j), at(i, j + 1)}, {-1, -1, -1}, 0});
-            if (i + 1 < stacks) s.triangles.push_back({{at(i, j + 1), at(i + 1, j), at(i + 1, j + 1)}, {-1, -1, -1}, 0});
-        }
+    addUvSphere(s, 0, false, stacks, slices);
     s.camera.position = Vec3(0.1, -0.05, 0.02);
     s.camera.target = Vec3(1, 0.2, 0.3);
     s.camera.up = Vec3(0, 1, 0);
@@ -118,6 +127,20 @@ inline RenderResult renderTiny(const Scene& scene, const std::string& estimator,
     rs.trace.nextEvent = nee;
     rs.trace.maxDepth = maxDepth;
     return render(scene, accel, *est, rs);
+}
+
+/// A render under the independent sampler (whose pixels are independent, as imageMeanAndError needs).
+inline RenderResult renderIndependent(const Scene& s, const std::string& estimator, int size, std::uint32_t spp, std::uint64_t seed,
+                                      bool nee = true) {
+    const Accel accel(s);
+    const auto est = makeEstimator(estimator);
+    RenderSettings rs;
+    rs.width = rs.height = size;
+    rs.spp = spp;
+    rs.seed = seed;
+    rs.sampler = "independent";
+    rs.trace.nextEvent = nee;
+    return render(s, accel, *est, rs);
 }
 
 /// The command line run in process, with its exit code and captured output.

@@ -2,6 +2,7 @@
 
 #include "io/files.h"
 #include "io/input_error.h"
+#include "io/memory.h"
 
 #include <ImfArray.h>
 #include <ImfChannelList.h>
@@ -93,11 +94,16 @@ void writeImage(const Image& img, const std::string& path, double exposure, bool
 }
 
 Image readExr(const std::string& path) {
-    if (!fs::exists(path)) throw MissingFileError(fmt::format("{}: no such file", path));
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw MissingFileError(fmt::format("{}: no such file", path));
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();
-        const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        const std::int64_t w64 = static_cast<std::int64_t>(dw.max.x) - dw.min.x + 1, h64 = static_cast<std::int64_t>(dw.max.y) - dw.min.y + 1;
+        if (w64 <= 0 || h64 <= 0 || w64 > (1 << 24) || h64 > (1 << 24))
+            throw InputError(fmt::format("{}: EXR data window {} x {} is empty or too large", path, w64, h64));
+        requireMemory(static_cast<std::uint64_t>(w64) * static_cast<std::uint64_t>(h64) * 36, fmt::format("{}: a {} x {} image", path, w64, h64));
+        const int w = static_cast<int>(w64), h = static_cast<int>(h64);
         const std::size_t n = static_cast<std::size_t>(w) * h;
         std::vector<float> planes(3 * n, 0.0f);
         Imf::FrameBuffer fb;

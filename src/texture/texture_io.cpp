@@ -63,6 +63,8 @@ Texture decodeExr(const std::string& name, const unsigned char* data, std::size_
         if (w64 <= 0 || h64 <= 0 || w64 > INT_MAX / 4 || h64 > INT_MAX / 4)
             throw InputError(fmt::format("{}: OpenEXR data window {} x {} is empty or too large", name, w64, h64));
         const int channels = (file.channels() & Imf::WRITE_A) ? 4 : 3;
+        if (static_cast<std::uint64_t>(w64) * static_cast<std::uint64_t>(h64) > saturatingMultiply(size, 16384) + (std::uint64_t{1} << 16))
+            throw InputError(fmt::format("{}: truncated image: its data window claims {} x {} texels, more than its {} bytes can hold", name, w64, h64, size));
         requireTexelMemory(name, static_cast<std::uint64_t>(w64), static_cast<std::uint64_t>(h64), 4, sizeof(Imf::Rgba) / 4);
         const int w = static_cast<int>(w64), h = static_cast<int>(h64);
         std::vector<Imf::Rgba> pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
@@ -86,6 +88,54 @@ Texture decodeExr(const std::string& name, const unsigned char* data, std::size_
     }
 }
 
+/// The image formats Debian's stb_image decodes that symphong does not document (PNM, GIF, PSD, PIC),
+/// by their signatures: refused before stb_image sees them (its PNM header parser overflows a signed
+/// integer on a long width; found by fuzzing, docs/reliability.md). No TGA can begin with these bytes
+/// (its second byte, the colour-map type, is 0 or 1).
+const char* undocumentedFormat(const unsigned char* data, std::size_t size) {
+    if (size >= 2 && data[0] == 'P' && data[1] >= '1' && data[1] <= '7') return "PNM (portable anymap)";
+    if (size >= 4 && std::memcmp(data, "GIF8", 4) == 0) return "GIF";
+    if (size >= 4 && std::memcmp(data, "8BPS", 4) == 0) return "Photoshop (PSD)";
+    if (size >= 4 && std::memcmp(data, "\x53\x80\xF6\x34", 4) == 0) return "Softimage PIC";
+    return nullptr;
+}
+
+/// Walks a JPEG's markers as stb_image 2.27 reads them (segments by their length, entropy-coded data
+/// after a scan up to the next marker, bytes past the end reading as 0) and refuses a Huffman table
+/// (DHT) whose 16 code counts add up to more than 256: stb_image 2.27 does not check it and writes past
+/// its tables (stb_image 2.28 does; found by fuzzing, docs/reliability.md).
+void checkJpegHuffmanTables(const std::string& name, const unsigned char* data, std::size_t size) {
+    if (size < 2 || data[0] != 0xFF || data[1] != 0xD8) return;
+    const auto byte = [&](std::size_t i) -> unsigned { return i < size ? data[i] : 0u; };
+    std::size_t pos = 2;
+    while (pos + 1 < size) {
+        if (byte(pos) != 0xFF) {
+            ++pos;  // not at a marker (entropy-coded data): look further
+            continue;
+        }
+        const unsigned marker = byte(pos + 1);
+        if (marker == 0xFF || marker == 0x00 || (marker >= 0xD0 && marker <= 0xD7) || marker == 0x01 || marker == 0xD8) {
+            pos += marker == 0xFF ? 1 : 2;  // fill byte, stuffed zero, or a marker without a segment
+            continue;
+        }
+        if (marker == 0xD9) return;  // end of image
+        const std::size_t length = (byte(pos + 2) << 8) | byte(pos + 3);
+        if (length < 2) return;  // stb_image rejects it
+        if (marker == 0xC4) {
+            std::size_t at = pos + 4, left = length - 2;
+            while (left >= 17) {
+                std::size_t codes = 0;
+                for (std::size_t k = 0; k < 16; ++k) codes += byte(at + 1 + k);
+                if (codes > 256) throw InputError(fmt::format("{}: corrupt JPEG: a Huffman table declares {} codes (at most 256)", name, codes));
+                if (17 + codes > left) break;
+                at += 17 + codes;
+                left -= 17 + codes;
+            }
+        }
+        pos += 2 + length;
+    }
+}
+
 struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
@@ -97,6 +147,9 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
     if (size >= 4 && std::memcmp(data, kExrMagic, 4) == 0) return decodeExr(name, data, size);
     if (size > static_cast<std::size_t>(INT_MAX)) throw InputError(fmt::format("{}: the file is over 2 GiB", name));
     const int len = static_cast<int>(size);
+    if (const char* format = undocumentedFormat(data, size))
+        throw InputError(fmt::format("{}: a {} image; symphong reads PNG, JPEG, BMP, TGA, HDR and EXR textures", name, format));
+    checkJpegHuffmanTables(name, data, size);
     int w = 0, h = 0, comp = 0;
     static constexpr unsigned char kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     if (size >= 24 && std::memcmp(data, kPngMagic, 8) == 0 && std::memcmp(data + 12, "IHDR", 4) == 0) {
@@ -113,12 +166,13 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
         const char* why = stbi_failure_reason();
         throw InputError(fmt::format("{}: not an image symphong reads (PNG, JPEG, BMP, TGA, HDR or EXR){}{}", name, why ? ": " : "", why ? why : ""));
     }
-    // No format symphong reads compresses better than about 1000:1 (deflate's limit is 1032:1): a header
-    // that claims far more texels than its bytes can encode is corrupt, and decoding it would only fill
-    // gigabytes with nothing.
-    const std::uint64_t decodedBytes = saturatingMultiply(saturatingMultiply(static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h)), static_cast<std::uint64_t>(comp));
-    if (decodedBytes > saturatingMultiply(size, 2048) + (std::uint64_t{64} << 20))
-        throw InputError(fmt::format("{}: corrupt image: its header claims {} x {} pixels, more than its {} bytes can hold", name, w, h, size));
+    // stb_image decodes a truncated file as if its missing bytes were zeros, so a 31-byte header can claim
+    // gigabytes. No real image holds more than about 8,256 texels a byte (a one-colour 1-bit PNG:
+    // deflate's 1032:1 times 8 pixels a byte): a header claiming more than 16,384 texels per byte of the
+    // file is truncated (found by fuzzing, docs/reliability.md).
+    const std::uint64_t claimed = saturatingMultiply(static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h));
+    if (claimed > saturatingMultiply(size, 16384) + (std::uint64_t{1} << 16))
+        throw InputError(fmt::format("{}: truncated image: its header claims {} x {} texels, more than its {} bytes can hold", name, w, h, size));
     const bool hdr = stbi_is_hdr_from_memory(data, len) != 0;
     const bool sixteen = !hdr && stbi_is_16_bit_from_memory(data, len) != 0;
     requireTexelMemory(name, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), static_cast<std::uint64_t>(comp), hdr ? 4 : (sixteen ? 2 : 1));

@@ -1,0 +1,108 @@
+// The fuzzers' findings as regression tests (docs/reliability.md): every file under
+// tests/data/fuzz/<target>/ goes through the same entry point as the fuzz target <target> (fuzz/
+// fuzz_common.h: the same files written into a scratch directory, the same loader) and must either
+// load, keeping the loader's promises (no NaN, no out-of-range index, valid texels), or be rejected
+// with symphong::InputError. Any other exception fails the test; a crash or a sanitizer report ends the
+// test binary; a hang runs into CTest's timeout. An empty or missing tests/data/fuzz fails too, so the
+// suite cannot pass by finding nothing to run. tests/data/fuzz/third-party/ (findings inside libraries
+// that symphong cannot prevent) is not run. Like the fuzz targets, the test compiles tinyobjloader's and
+// stb_image's implementations in (fuzz/tinyobj_instrumented.cpp, fuzz/stb_image_instrumented.cpp), so
+// that a sanitizer build (debug-asan) sees their faults too, not only symphong's.
+#include "../fuzz/fuzz_common.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kRoot = fs::path(SYMPHONG_SOURCE_DIR "/tests/data/fuzz");
+const char* const kTargets[] = {"fuzz_obj", "fuzz_json", "fuzz_assimp", "fuzz_texture"};
+
+struct Input {
+    std::string target;
+    fs::path file;
+};
+
+// How gtest names a parameter in its output: the target and the file (not the bytes of the struct).
+void PrintTo(const Input& in, std::ostream* os) { *os << in.target << ": " << in.file.string(); }
+
+std::vector<Input> inputs() {
+    std::vector<Input> out;
+    std::error_code ec;
+    for (const char* target : kTargets) {
+        const fs::path dir = kRoot / target;
+        if (!fs::is_directory(dir, ec)) continue;
+        for (const auto& e : fs::directory_iterator(dir, ec))
+            if (e.is_regular_file()) out.push_back({target, e.path()});
+    }
+    std::sort(out.begin(), out.end(), [](const Input& a, const Input& b) { return a.file < b.file; });
+    return out;
+}
+
+std::string readBytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// The same call as the fuzz target's; "" when it loads and keeps its promises or is rejected with
+/// InputError, else what went wrong.
+std::string verdict(const Input& in) {
+    using namespace symphong::fuzz;
+    const std::string bytes = readBytes(in.file);
+    const fs::path dir = scratchDir("regression");
+    try {
+        std::string problemText;
+        if (in.target == "fuzz_obj") problemText = problem(loadObjInput(dir, bytes));
+        else if (in.target == "fuzz_json") problemText = problem(loadJsonInput(dir, bytes));
+        else if (in.target == "fuzz_assimp") problemText = problem(loadAssimpInput(dir, bytes));
+        else if (in.target == "fuzz_texture") problemText = problem(decodeTextureInput(bytes));
+        else return "unknown target " + in.target;
+        return problemText.empty() ? "" : "accepted, but breaks the loader's promise: " + problemText;
+    } catch (const symphong::InputError&) {
+        return "";  // the expected rejection
+    } catch (const std::exception& e) {
+        return std::string("threw an exception other than InputError: ") + e.what();
+    } catch (...) {
+        return "threw something that is not a std::exception";
+    }
+}
+
+class FuzzRegression : public ::testing::TestWithParam<Input> {};
+
+}  // namespace
+
+TEST(FuzzRegressions, DirectoryHoldsInputs) {
+    ASSERT_TRUE(fs::is_directory(kRoot)) << kRoot << " is missing";
+    EXPECT_FALSE(inputs().empty()) << "no files under " << kRoot << "/<target>/ (targets: fuzz_obj, fuzz_json, fuzz_assimp, fuzz_texture)";
+    // A file in a directory that names no target would never run (third-party/ holds findings inside
+    // libraries that symphong cannot prevent, on purpose not run: its README.md says why).
+    for (const auto& e : fs::directory_iterator(kRoot)) {
+        if (e.is_directory() && e.path().filename() != "third-party") {
+            EXPECT_NE(std::find(std::begin(kTargets), std::end(kTargets), e.path().filename().string()), std::end(kTargets))
+                << e.path() << " is not the directory of a fuzz target";
+        }
+    }
+}
+
+TEST_P(FuzzRegression, LoadsOrIsRejectedWithInputError) {
+    const Input& in = GetParam();
+    const std::string v = verdict(in);
+    EXPECT_TRUE(v.empty()) << in.file.string() << " (" << in.target << "): " << v;
+}
+
+INSTANTIATE_TEST_SUITE_P(Findings, FuzzRegression, ::testing::ValuesIn(inputs()), [](const ::testing::TestParamInfo<Input>& info) {
+    std::string name = info.param.target + "_" + info.param.file.filename().string();
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+});
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(FuzzRegression);
