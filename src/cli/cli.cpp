@@ -92,6 +92,8 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
         "PNG, JPEG, HDR or EXR; a missing texture file is a warning, a corrupt one an error. A JSON scene's\n"
         "\"environment\": {\"map\": \"sky.hdr\"} lights the scene with a lat-long HDR image (docs/scene-format.md).\n"
         "A mesh or texture that would need more than 3/4 of this machine's memory is refused before it is read.\n"
+        "Known limit: Assimp 5.2 (Debian 12) itself can crash or exhaust memory on some malformed Collada (.dae) files,\n"
+        "which symphong cannot prevent from outside; the loaders were fuzzed (docs/reliability.md).\n"
         "PNG output is 8-bit sRGB: linear radiance is multiplied by --exposure, clamped to [0,1], then sRGB-encoded.\n"
         "EXR output is linear RGB, 32-bit float (16-bit half with --exr-half).\n"
         "The same --seed gives the same image, bit for bit, at any --threads, with every sampler.\n"
