@@ -106,6 +106,8 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
     scene.bounds(lo, hi);
     const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});
     epsilon_ = 1e-5 * extent;
+    textured_.reserve(scene.materials.size());
+    for (const PhongMaterial& m : scene.materials) textured_.push_back(m.textures.any() ? 1 : 0);
 }
 
 Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const {
@@ -135,7 +137,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const Triangle& tri = scene_.triangles[hit.prim];
     const PhongMaterial& baseMaterial = scene_.materials[tri.material];
     // A textured material's parameters at this point, in this depth's scratch material.
-    const bool textured = baseMaterial.textures.any();
+    const bool textured = textured_[tri.material] != 0;
     const TexCoord uv = textured ? texcoordAt(scene_, tri, hit.u, hit.v) : TexCoord{};
     const PhongMaterial& mat =
         textured ? materialAt(scene_, baseMaterial, uv, pc.scratch.materials[static_cast<std::size_t>(depth)]) : baseMaterial;
@@ -257,7 +259,7 @@ Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& fram
     const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
     const PhongMaterial& emitter = scene_.materials[t.material];
     // q = b.u v0 + b.v v1 + (1 - b.u - b.v) v2: barycentrics (b.v, 1 - b.u - b.v) of vertices 1 and 2.
-    const Color Le = emitter.textures.any() ? emissionAt(scene_, emitter, texcoordAt(scene_, t, b.v, 1.0 - b.u - b.v)) : emitter.emission;
+    const Color Le = textured_[t.material] ? emissionAt(scene_, emitter, texcoordAt(scene_, t, b.v, 1.0 - b.u - b.v)) : emitter.emission;
     return f * Le * (wiLocal.z * w / lightPdf);
 }
 

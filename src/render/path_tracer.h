@@ -141,6 +141,7 @@ private:
     const Estimator& estimator_;
     TraceSettings settings_;
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
+    std::vector<std::uint8_t> textured_;  ///< per material: whether it has any texture (one byte to test on the hot path)
     std::vector<double> areas_;
     EmitterSampler emitters_;
     bool triangleSampling_;  ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
