@@ -329,3 +329,20 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
     const auto [mean, se] = test::imageMeanAndError(test::renderIndependent(g, "phong", 32, 32, 8));
     EXPECT_NEAR(mean, objMean, 4 * std::hypot(se, objSe)) << "glb: se " << se << ", " << objSe;
 }
+
+// An emitter with a cut-out emits only where it is solid: light sampling (which picks points on the
+// whole triangle) and paths that hit it (which pass through its holes) must agree.
+TEST(TexturedRender, CutOutEmitterLightsAsMuchThroughLightSamplingAsThroughPaths) {
+    test::TempDir dir;
+    writeChecker(dir.file("mask.png"), 64, 4, 255, 0, 2);
+    dir.write("m.mtl", "newmtl floor\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 4 4 4\nmap_d mask.png\n");
+    dir.write("s.obj", "mtllib m.mtl\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
+                       "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                       "usemtl floor\nf 1 4 3 2\nusemtl lamp\nf 5/1 6/2 7/3 8/4\n");
+    const Scene s = loadScene(dir.write("s.json", R"({"obj": "s.obj", "camera": {"position": [0, 0.9, 0.01], "target": [0, 0, 0], "fov": 60}, "environment": 0})"));
+    ASSERT_TRUE(s.hasCutOuts());
+    const auto [nee, seNee] = test::imageMeanAndError(test::renderIndependent(s, "cosine", 16, 64, 41, true));
+    const auto [paths, sePaths] = test::imageMeanAndError(test::renderIndependent(s, "cosine", 16, 64, 42, false));
+    EXPECT_NEAR(nee, paths, 4 * std::hypot(seNee, sePaths)) << "se " << seNee << ", " << sePaths;
+    EXPECT_GT(nee, 0.1);
+}

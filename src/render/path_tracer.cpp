@@ -259,7 +259,12 @@ Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& fram
     const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
     const PhongMaterial& emitter = scene_.materials[t.material];
     // q = b.u v0 + b.v v1 + (1 - b.u - b.v) v2: barycentrics (b.v, 1 - b.u - b.v) of vertices 1 and 2.
-    const Color Le = textured_[t.material] ? emissionAt(scene_, emitter, texcoordAt(scene_, t, b.v, 1.0 - b.u - b.v)) : emitter.emission;
+    Color Le = emitter.emission;
+    if (textured_[t.material]) {
+        const TexCoord uv = texcoordAt(scene_, t, b.v, 1.0 - b.u - b.v);
+        if (cutOutAt(scene_, emitter, uv)) return Color(0.0);  // a hole: no path can hit it either
+        Le = emissionAt(scene_, emitter, uv);
+    }
     return f * Le * (wiLocal.z * w / lightPdf);
 }
 
