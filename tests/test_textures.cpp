@@ -12,6 +12,9 @@
 #include "scene/surface.h"
 #include "texture/texture_io.h"
 
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>
 
@@ -345,4 +348,26 @@ TEST(TexturedRender, CutOutEmitterLightsAsMuchThroughLightSamplingAsThroughPaths
     const auto [paths, sePaths] = test::imageMeanAndError(test::renderIndependent(s, "cosine", 16, 64, 42, false));
     EXPECT_NEAR(nee, paths, 4 * std::hypot(seNee, sePaths)) << "se " << seNee << ", " << sePaths;
     EXPECT_GT(nee, 0.1);
+}
+
+// Collada through Assimp: the checkerboard square written by Assimp's own Collada exporter from the OBJ
+// (its map_Kd becomes a <texture>) loads with the texture and renders the OBJ's mean.
+TEST(TexturedRender, ColladaDiffuseTextureMatchesTheObjVersion) {
+    test::TempDir dir;
+    writeChecker(dir.file("checker.png"), 64, 8, 200, 50);
+    dir.write("m.mtl", "newmtl checker\nKd 1 1 1\nKs 0 0 0\nmap_Kd checker.png\n");
+    const std::string obj = squareObj(dir, "m.mtl", "checker");
+    Assimp::Importer importer;
+    const aiScene* ai = importer.ReadFile(obj, 0);
+    ASSERT_NE(ai, nullptr) << importer.GetErrorString();
+    Assimp::Exporter exporter;
+    ASSERT_EQ(exporter.Export(ai, "collada", dir.file("square.dae")), AI_SUCCESS) << exporter.GetErrorString();
+    const Scene fromObj = loadScene(squareJson(dir, "square.obj", "1"));
+    const Scene fromDae = loadScene(squareJson(dir, "square.dae", "1"));
+    ASSERT_EQ(fromDae.textures.size(), 1u);
+    EXPECT_TRUE(fromDae.materials[0].textures.diffuse.present() || fromDae.materials.back().textures.diffuse.present());
+    const auto [a, sa] = test::imageMeanAndError(test::renderIndependent(fromObj, "cosine", 32, 16, 9));
+    const auto [b, sb] = test::imageMeanAndError(test::renderIndependent(fromDae, "cosine", 32, 16, 10));
+    EXPECT_NEAR(a, b, 4 * std::hypot(sa, sb) + 1e-3 * a) << "se " << sa << ", " << sb;
+    EXPECT_NEAR(a, 0.5 * (linear8(200) + linear8(50)), 1e-2);
 }
