@@ -162,6 +162,10 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
         float shininess;
         if (tx.exponent.present() && m.Get(AI_MATKEY_SHININESS, shininess) != AI_SUCCESS) out.exponent = 1000;
     }
+    for (const auto& [type, what] : {std::pair{aiTextureType_NORMALS, "normal"}, std::pair{aiTextureType_HEIGHT, "bump"},
+                                     std::pair{aiTextureType_DISPLACEMENT, "displacement"}, std::pair{aiTextureType_LIGHTMAP, "occlusion/light"}})
+        if (m.GetTextureCount(type) > 0)
+            scene.warnings.push_back(fmt::format("{}: material '{}': its {} map is not supported by symphong; ignored", path, out.name, what));
     tx.emission = tex(aiTextureType_EMISSIVE, TextureEncoding::Srgb);
     if (!tx.alpha.present()) tx.alpha = tex(aiTextureType_OPACITY, TextureEncoding::Linear);
 }

@@ -261,6 +261,10 @@ Scene loadObj(const std::string& path) {
         tx.exponent = mtlTexture(table, mtlDir, mt.specular_highlight_texname, mt.specular_highlight_texopt, TextureEncoding::Linear, where("map_Ns"), scene);
         tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"), scene);
         tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"), scene);
+        for (const auto& [key, file] : {std::pair{"bump", mt.bump_texname}, std::pair{"norm", mt.normal_texname}, std::pair{"disp", mt.displacement_texname},
+                                        std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})
+            if (!file.empty())
+                scene.warnings.push_back(fmt::format("{}: material '{}': {} map '{}' is not supported by symphong; ignored", mtlFile, m.name, key, file));
         if (tx.diffuse.present() && !keys.count("Kd")) m.rhoD = Color(1.0);
         if (tx.specular.present() && !keys.count("Ks")) m.rhoS = Color(1.0);
         if (tx.exponent.present() && !keys.count("Ns")) m.exponent = 1000;
