@@ -116,13 +116,15 @@ inline std::pair<double, double> imageMeanAndError(const RenderResult& r) {
 }
 
 inline RenderResult renderTiny(const Scene& scene, const std::string& estimator, int size, std::uint32_t spp,
-                               std::uint64_t seed, int threads = 0, bool nee = true, int maxDepth = 16) {
+                               std::uint64_t seed, int threads = 0, bool nee = true, int maxDepth = 16,
+                               const std::string& sampler = std::string(kDefaultSampler)) {
     const Accel accel(scene);
     const auto est = makeEstimator(estimator);
     RenderSettings rs;
     rs.width = rs.height = size;
     rs.spp = spp;
     rs.seed = seed;
+    rs.sampler = sampler;
     rs.threads = threads;
     rs.trace.nextEvent = nee;
     rs.trace.maxDepth = maxDepth;
@@ -132,15 +134,7 @@ inline RenderResult renderTiny(const Scene& scene, const std::string& estimator,
 /// A render under the independent sampler (whose pixels are independent, as imageMeanAndError needs).
 inline RenderResult renderIndependent(const Scene& s, const std::string& estimator, int size, std::uint32_t spp, std::uint64_t seed,
                                       bool nee = true) {
-    const Accel accel(s);
-    const auto est = makeEstimator(estimator);
-    RenderSettings rs;
-    rs.width = rs.height = size;
-    rs.spp = spp;
-    rs.seed = seed;
-    rs.sampler = "independent";
-    rs.trace.nextEvent = nee;
-    return render(s, accel, *est, rs);
+    return renderTiny(s, estimator, size, spp, seed, 0, nee, RenderSettings{}.trace.maxDepth, "independent");
 }
 
 /// The command line run in process, with its exit code and captured output.

@@ -7,6 +7,9 @@
 
 namespace symphong {
 
+/// The extension of a path, lower-cased, with its dot (".obj"), or "" when it has none.
+std::string lowerExtension(const std::string& path);
+
 /// Reads a whole file; throws InputError naming the path when it is missing or unreadable.
 std::string readTextFile(const std::string& path);
 

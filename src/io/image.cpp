@@ -25,8 +25,7 @@ namespace fs = std::filesystem;
 namespace symphong {
 
 ImageFormat imageFormatFor(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = lowerExtension(path);
     if (ext == ".png") return ImageFormat::Png;
     if (ext == ".exr") return ImageFormat::Exr;
     throw InputError(fmt::format("{}: output must end in .png or .exr", path));

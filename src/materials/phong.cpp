@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -102,16 +103,27 @@ bool validateAndClampPhong(PhongMaterial& m) {
     check(m.emission, "emission Ke");
     if (!std::isfinite(m.exponent) || m.exponent < 0)
         throw std::invalid_argument(fmt::format("material '{}': Phong exponent Ns is {} (must be finite and >= 0)", m.name, m.exponent));
+    return clampEnergy(m.rhoD, m.rhoS);
+}
+
+bool clampEnergy(Color& rhoD, Color& rhoS) {
     bool clamped = false;
     for (int i = 0; i < 3; ++i) {
-        const double sum = m.rhoD[i] + m.rhoS[i];
+        const double sum = rhoD[i] + rhoS[i];
         if (sum > 1.0) {
-            m.rhoD[i] /= sum;
-            m.rhoS[i] /= sum;
+            rhoD[i] /= sum;
+            rhoS[i] /= sum;
             clamped = true;
         }
     }
     return clamped;
+}
+
+void metallicRoughnessToPhong(const Color& base, double metallic, double roughness, Color& rhoD, Color& rhoS, double& exponent) {
+    rhoD = base * (1.0 - metallic);
+    rhoS = Color(0.04 * (1.0 - metallic)) + base * metallic;
+    const double alpha = std::max(1e-3, roughness * roughness);
+    exponent = std::clamp(2.0 / (alpha * alpha) - 2.0, 0.0, 1e4);
 }
 
 }  // namespace symphong

@@ -72,6 +72,15 @@ double phongLobeCosineIntegral(double n, double theta);
 /// constant incoming radiance L = 1:  rho_d + rho_s (n+2)/(2 pi) I(n, theta_o).
 Color phongDirectionalAlbedo(const PhongMaterial& m, const Vec3& wo);
 
+/// Scales rho_d and rho_s down per channel so that rho_d + rho_s <= 1; true when it had to.
+bool clampEnergy(Color& rhoD, Color& rhoS);
+
+/// The Phong approximation of a glTF metallic-roughness material (docs/scene-format.md): with base
+/// colour b, metallic m and roughness r, rho_d = b (1 - m), rho_s = 0.04 (1 - m) + b m (F0 = 0.04 for
+/// dielectrics), n = 2 / alpha^2 - 2 with alpha = max(r^2, 10^-3), clamped to [0, 10^4] (a Phong lobe
+/// about as wide as a GGX lobe of that alpha).
+void metallicRoughnessToPhong(const Color& base, double metallic, double roughness, Color& rhoD, Color& rhoS, double& exponent);
+
 /// Checks a material's numbers. Throws std::invalid_argument naming the offending value when a number is
 /// not finite or negative; scales rho_d and rho_s down per channel so that rho_d + rho_s <= 1 and
 /// returns true when it had to (the caller warns).

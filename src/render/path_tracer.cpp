@@ -35,9 +35,9 @@ double powerHeuristic(double a, double b) {
 
 }  // namespace
 
-EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withTriangles) : slot_(scene.triangles.size(), -1) {
+EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withHittable) : slot_(scene.triangles.size(), -1) {
     std::vector<double> power;
-    for (std::size_t i = 0; i < scene.triangles.size() && withTriangles; ++i) {
+    for (std::size_t i = 0; i < scene.triangles.size() && withHittable; ++i) {
         const PhongMaterial& m = scene.materials[scene.triangles[i].material];
         const double p = areas[i] * luminance(m.emission);
         if (m.isEmissive() && p > 0) {
@@ -64,7 +64,7 @@ EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& ar
             power.push_back(p);
         }
     }
-    if (withTriangles && scene.environmentMap) {
+    if (withHittable && scene.environmentMap) {
         const double p = kPi * radius * radius * scene.environmentMap->luminanceIntegral();
         if (p > 0) {
             environmentSlot_ = static_cast<std::int64_t>(entries_.size());
@@ -286,13 +286,10 @@ Color PathTracer::sampleEnvironment(const Vec3& p, const Vec3& ng, const Frame& 
 }
 
 Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {
-    if (scene_.environmentMap) {
-        const Vec3 dir = normalize(d);
-        double w = 1.0;
-        if (depth > 0 && environmentSampling_) w = powerHeuristic(prevMisPdf, emitters_.environmentProbability() * scene_.environmentMap->pdf(dir));
-        return scene_.environmentMap->radiance(dir) * w;
-    }
-    return scene_.sky ? skyRadiance(*scene_.sky, normalize(d)) : scene_.environment;
+    const Vec3 dir = normalize(d);
+    double w = 1.0;
+    if (depth > 0 && environmentSampling_) w = powerHeuristic(prevMisPdf, emitters_.environmentProbability() * scene_.environmentMap->pdf(dir));
+    return scene_.environmentRadiance(dir) * w;
 }
 
 // A point, spot or directional light: the one direction it arrives from, no MIS (no path can hit it).

@@ -37,7 +37,8 @@ struct TraceStats {
 class EmitterSampler {
 public:
     enum class Kind { Triangle, Light, Environment };
-    EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withTriangles);
+    /// withHittable: whether the emitters a path can also hit (triangles, the environment map) are sampled.
+    EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withHittable);
     bool empty() const { return entries_.empty(); }
     bool hasTriangles() const { return lightBase_ > 0; }
     bool hasEnvironment() const { return environmentSlot_ >= 0; }

@@ -104,15 +104,12 @@ TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType t
             // Raw BGRA8888 texels, mWidth x mHeight, row 0 at the top.
             const std::uint64_t w = embedded->mWidth, h = embedded->mHeight;
             requireMemory(saturatingMultiply(w, h) * 16, fmt::format("{}: a {} x {} texture", name, w, h));
-            std::vector<float> texels(static_cast<std::size_t>(w * h * 4));
+            std::vector<unsigned char> rgba(static_cast<std::size_t>(w * h * 4));
             for (std::size_t i = 0; i < w * h; ++i) {
                 const aiTexel& t = embedded->pcData[i];
-                const unsigned char rgba[4] = {t.r, t.g, t.b, t.a};
-                for (int c = 0; c < 4; ++c)
-                    texels[i * 4 + static_cast<std::size_t>(c)] =
-                        static_cast<float>(encoding == TextureEncoding::Srgb && c < 3 ? srgbToLinear(rgba[c] / 255.0) : rgba[c] / 255.0);
+                rgba[4 * i] = t.r, rgba[4 * i + 1] = t.g, rgba[4 * i + 2] = t.b, rgba[4 * i + 3] = t.a;
             }
-            return Texture(name, static_cast<int>(w), static_cast<int>(h), 4, std::move(texels));
+            return textureFrom8Bit(name, static_cast<int>(w), static_cast<int>(h), 4, rgba.data(), encoding);
         });
     } else {
         if (file.C_Str()[0] == '*') throw InputError(fmt::format("{}: texture '{}' refers to an embedded image the file does not have", where, file.C_Str()));
@@ -171,9 +168,8 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
 }
 
 /// One material: Phong/Blinn parameters directly (diffuse -> rho_d, specular -> rho_s, shininess -> n,
-/// emissive -> Le); a glTF metallic-roughness material by the stated approximation: rho_d = base (1 -
-/// metallic), rho_s = 0.04 (1 - metallic) + base metallic, n = 2 / alpha^2 - 2 with alpha = roughness^2
-/// (at most 10^4); emission times KHR_materials_emissive_strength.
+/// emissive -> Le); a glTF metallic-roughness material by the stated approximation
+/// (materials/phong.h metallicRoughnessToPhong); emission times KHR_materials_emissive_strength.
 PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, TextureTable& table, Scene& scene, const std::string& path) {
     PhongMaterial out;
     aiString name;
@@ -183,11 +179,7 @@ PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t in
     const bool pbr = m.Get(AI_MATKEY_BASE_COLOR, base) == AI_SUCCESS && m.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS;
     if (pbr) {
         m.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness);
-        const Color b(base.r, base.g, base.b);
-        out.rhoD = b * (1.0 - metallic);
-        out.rhoS = Color(0.04 * (1.0 - metallic)) + b * metallic;
-        const double alpha = std::max(1e-3, static_cast<double>(roughness) * roughness);
-        out.exponent = std::clamp(2.0 / (alpha * alpha) - 2.0, 0.0, 1e4);
+        metallicRoughnessToPhong(Color(base.r, base.g, base.b), metallic, roughness, out.rhoD, out.rhoS, out.exponent);
     } else {
         aiColor3D c;
         if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) out.rhoD = toColor(c);
@@ -211,8 +203,7 @@ PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t in
 /// KHR_materials_emissive_strength, and a camera's exact vertical field of view (it gives yfov x
 /// aspect as the horizontal one).
 nlohmann::json gltfJson(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string ext = lowerExtension(path);
     if (ext != ".gltf" && ext != ".glb") return nullptr;
     const std::string bytes = readTextFile(path);
     std::string text = bytes;
@@ -337,9 +328,7 @@ Scene loadAssimp(const std::string& path) {
     }
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
 
-    std::string extension = std::filesystem::path(path).extension().string();
-    for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    const bool fbx = extension == ".fbx";
+    const bool fbx = lowerExtension(path) == ".fbx";
     if (ai->mNumCameras > 0) {
         const aiCamera& c = *ai->mCameras[0];
         const aiMatrix4x4 world = nodeTransform(nodes, c.mName);

@@ -182,8 +182,7 @@ Scene loadJsonScene(const std::string& path) {
         if (!doc[key].is_string()) throw InputError(fmt::format("{}: \"{}\" must be a string path", path, key));
         std::filesystem::path file = doc[key].get<std::string>();
         if (file.is_relative()) file = dir / file;
-        std::string ext = file.extension().string();
-        for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+        const std::string ext = lowerExtension(file.string());
         if (std::string(key) == "mesh" && ext != ".obj" && !isAssimpExtension(file.string()))
             throw InputError(fmt::format("{}: \"mesh\": {}: not a format symphong reads (.obj, .gltf, .glb, .ply, .fbx, .dae, .3ds)", path,
                                          file.string()));

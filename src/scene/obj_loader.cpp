@@ -78,13 +78,16 @@ struct ObjScan {
     std::uint64_t corners = 0;            ///< face corners over all f lines
 };
 
-/// What an MTL file states for each material: the line of each keyword it gives (so a map without its
-/// constant can take 1 as the constant, and a missing texture can be reported at its line).
-using MtlKeys = std::map<std::string, std::map<std::string, int>>;
+/// What an MTL file states for one material: the file, and the line of each keyword it gives (so a map
+/// without its constant can take 1 as the constant, and a missing texture can be reported at its line).
+struct MtlMaterial {
+    std::string file;
+    std::map<std::string, int> keys;
+};
+using MtlKeys = std::map<std::string, MtlMaterial>;
 
 ObjScan validateObj(const std::string& path, const std::string& text) {
     ObjScan scan;
-    long counts[3] = {0, 0, 0};  // v, vt, vn
     forEachLine(text, [&](int line, const std::vector<std::string>& w) {
         const std::string& key = w[0];
         const auto numbers = [&](std::size_t minimum, const char* what) {
@@ -98,15 +101,12 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
         };
         if (key == "v") {
             numbers(3, "vertex coordinate");
-            ++counts[0];
             ++scan.counts[0];
         } else if (key == "vt") {
             numbers(1, "texture coordinate");
-            ++counts[1];
             ++scan.counts[1];
         } else if (key == "vn") {
             numbers(3, "normal component");
-            ++counts[2];
             ++scan.counts[2];
         } else if (key == "f") {
             if (w.size() - 1 < 3)
@@ -125,10 +125,11 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
                             throw InputError(fmt::format("{}:{}: face index '{}' is not an integer", path, line, w[i]));
                         if (idx == 0)
                             throw InputError(fmt::format("{}:{}: face {} index 0 in '{}' (OBJ indices start at 1)", path, line, kinds[k], w[i]));
-                        const long resolved = idx > 0 ? idx : counts[k] + idx + 1;
-                        if (resolved < 1 || resolved > counts[k])
+                        const long defined = static_cast<long>(scan.counts[k]);
+                        const long resolved = idx > 0 ? idx : defined + idx + 1;
+                        if (resolved < 1 || resolved > defined)
                             throw InputError(fmt::format("{}:{}: face {} index {} in '{}' is out of range ({} defined so far)",
-                                                         path, line, kinds[k], idx, w[i], counts[k]));
+                                                         path, line, kinds[k], idx, w[i], defined));
                     } else if (k == 0) {
                         throw InputError(fmt::format("{}:{}: face corner '{}' has no vertex index", path, line, w[i]));
                     }
@@ -160,7 +161,7 @@ MtlKeys validateMtl(const std::string& path, const std::string& text) {
     forEachLine(text, [&](int line, const std::vector<std::string>& w) {
         const std::string& key = w[0];
         if (key == "newmtl" && w.size() >= 2) current = trim(w[1]);
-        else keys[current].emplace(key, line);
+        else keys[current].keys.emplace(key, line);
         const bool colour = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ka";
         if (!colour && key != "Ns") return;
         if (colour && w.size() >= 2 && (w[1] == "spectral" || w[1] == "xyz")) return;  // not used by symphong
@@ -172,6 +173,7 @@ MtlKeys validateMtl(const std::string& path, const std::string& text) {
             if (value < 0) throw InputError(fmt::format("{}:{}: {} value {} is negative", path, line, key, w[i]));
         }
     });
+    for (auto& [name, material] : keys) material.file = path;
     return keys;
 }
 
@@ -205,14 +207,10 @@ Scene loadObj(const std::string& path) {
     requireMemory(scan.counts[0] * 48 + scan.counts[1] * 40 + scan.counts[2] * 48 + scan.corners * 60,
                   fmt::format("{}: a mesh of {} vertices and {} face corners", path, scan.counts[0], scan.corners));
     MtlKeys mtlKeys;
-    std::map<std::string, std::string> mtlFileOf;  // material -> its MTL file, for messages
     for (const std::string& lib : scan.mtllibs) {
         const auto mtlPath = (dir / lib).string();
         if (std::filesystem::exists(mtlPath))
-            for (auto& [name, keys] : validateMtl(mtlPath, readTextFile(mtlPath))) {
-                mtlKeys[name] = keys;
-                mtlFileOf[name] = mtlPath;
-            }
+            for (auto& [name, material] : validateMtl(mtlPath, readTextFile(mtlPath))) mtlKeys[name] = material;
     }
 
     tinyobj::ObjReaderConfig config;
@@ -249,8 +247,9 @@ Scene loadObj(const std::string& path) {
         m.emission = toColor(mt.emission);
         // A map multiplies its constant (Kd, Ks, Ns, Ke) as the MTL format says; where the file gives
         // the map but not the constant, the constant is 1 (1000 for Ns, the top of MTL's 0..1000 range).
-        const auto& keys = mtlKeys[m.name];
-        const std::string mtlFile = mtlFileOf.count(m.name) ? mtlFileOf[m.name] : path;
+        const MtlMaterial& stated = mtlKeys[m.name];
+        const auto& keys = stated.keys;
+        const std::string mtlFile = stated.file.empty() ? path : stated.file;
         const auto where = [&](const char* key) {
             const auto it = keys.find(key);
             return it == keys.end() ? fmt::format("{}: material '{}'", mtlFile, m.name) : fmt::format("{}:{}", mtlFile, it->second);

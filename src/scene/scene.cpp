@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include "io/files.h"
 #include "io/input_error.h"
 
 #include <fmt/format.h>
@@ -93,10 +94,9 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
                                          scene.positions[i].z));
     for (const Vec3& n : scene.normals)
         if (!isFinite(n)) throw InputError(fmt::format("{}: a shading normal is not finite", source));
-    for (std::size_t i = 0; i < scene.lights.size(); ++i)
-        if (!inRange(scene.lights[i].position)) throw InputError(fmt::format("{}: lights[{}] position is not finite or beyond +-1e30", source, i));
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
         Light& l = scene.lights[i];
+        if (!inRange(l.position)) throw InputError(fmt::format("{}: lights[{}] position is not finite or beyond +-1e30", source, i));
         if (!isFinite(l.position) || !isFinite(l.direction) || !isFinite(l.intensity) || minComponent(l.intensity) < 0 ||
             !std::isfinite(l.cosInner) || !std::isfinite(l.cosOuter))
             throw InputError(fmt::format("{}: lights[{}] ({}) has a non-finite or negative value", source, i, lightTypeName(l.type)));
@@ -131,8 +131,7 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
 }
 
 bool isAssimpExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string ext = lowerExtension(path);
     for (const char* e : {".gltf", ".glb", ".ply", ".fbx", ".dae", ".3ds"})
         if (ext == e) return true;
     return false;
@@ -146,9 +145,7 @@ Scene loadSceneUnguarded(const std::string& spec) {
         finalizeScene(s, spec, false);
         return s;
     }
-    const std::filesystem::path p(spec);
-    std::string ext = p.extension().string();
-    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string ext = lowerExtension(spec);
     if (ext == ".obj") {
         Scene s = loadObj(spec);
         finalizeScene(s, spec, false);

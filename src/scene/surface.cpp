@@ -51,30 +51,20 @@ const PhongMaterial& materialAt(const Scene& scene, const PhongMaterial& m, cons
     const MaterialTextures& tx = m.textures;
     if (!tx.reflectance()) return m;
     if (tx.model == MaterialTextures::Model::MetallicRoughness) {
-        // glTF: the same approximation as scene/assimp_loader's constant mapping, per point.
+        // glTF: the approximation of the constant mapping (materials/phong.h), per point.
         const Color base = tx.diffuse.present() ? tx.baseColor * rgbAt(scene, tx.diffuse, uv) : tx.baseColor;
         double metallic = tx.metallic, roughness = tx.roughness;
         if (tx.metallicRoughness.present()) {
             roughness *= channelAt(scene, tx.metallicRoughness, uv, 1);  // G
             metallic *= channelAt(scene, tx.metallicRoughness, uv, 2);   // B
         }
-        metallic = std::clamp(metallic, 0.0, 1.0);
-        out.rhoD = base * (1.0 - metallic);
-        out.rhoS = Color(0.04 * (1.0 - metallic)) + base * metallic;
-        const double alpha = std::max(1e-3, roughness * roughness);
-        out.exponent = std::clamp(2.0 / (alpha * alpha) - 2.0, 0.0, 1e4);
+        metallicRoughnessToPhong(base, std::clamp(metallic, 0.0, 1.0), roughness, out.rhoD, out.rhoS, out.exponent);
     } else {
         out.rhoD = tx.diffuse.present() ? m.rhoD * rgbAt(scene, tx.diffuse, uv) : m.rhoD;
         out.rhoS = tx.specular.present() ? m.rhoS * rgbAt(scene, tx.specular, uv) : m.rhoS;
         out.exponent = tx.exponent.present() ? m.exponent * channelAt(scene, tx.exponent, uv, 0) : m.exponent;
     }
-    for (int i = 0; i < 3; ++i) {
-        const double sum = out.rhoD[i] + out.rhoS[i];
-        if (sum > 1.0) {
-            out.rhoD[i] /= sum;
-            out.rhoS[i] /= sum;
-        }
-    }
+    clampEnergy(out.rhoD, out.rhoS);
     out.emission = m.emission;
     return out;
 }

@@ -54,6 +54,15 @@ void requireTexelMemory(const std::string& name, std::uint64_t width, std::uint6
     requireMemory(saturatingMultiply(texels, sizeof(float) + decodeBytesPerTexel), fmt::format("{}: a {} x {} texture", name, width, height));
 }
 
+/// stb_image decodes a truncated file as if its missing bytes were zeros, so a 31-byte header can claim
+/// gigabytes. No real image holds more than about 8,256 texels a byte (a one-colour 1-bit PNG:
+/// deflate's 1032:1 times 8 pixels a byte): a header (`what`) claiming more than 16,384 texels per byte
+/// of the file is truncated (found by fuzzing, docs/reliability.md).
+void checkClaimedTexels(const std::string& name, std::uint64_t width, std::uint64_t height, std::size_t size, const char* what) {
+    if (saturatingMultiply(width, height) > saturatingMultiply(size, 16384) + (std::uint64_t{1} << 16))
+        throw InputError(fmt::format("{}: truncated image: its {} claims {} x {} texels, more than its {} bytes can hold", name, what, width, height, size));
+}
+
 Texture decodeExr(const std::string& name, const unsigned char* data, std::size_t size) {
     try {
         MemoryStream stream(name, data, size);
@@ -63,8 +72,7 @@ Texture decodeExr(const std::string& name, const unsigned char* data, std::size_
         if (w64 <= 0 || h64 <= 0 || w64 > INT_MAX / 4 || h64 > INT_MAX / 4)
             throw InputError(fmt::format("{}: OpenEXR data window {} x {} is empty or too large", name, w64, h64));
         const int channels = (file.channels() & Imf::WRITE_A) ? 4 : 3;
-        if (static_cast<std::uint64_t>(w64) * static_cast<std::uint64_t>(h64) > saturatingMultiply(size, 16384) + (std::uint64_t{1} << 16))
-            throw InputError(fmt::format("{}: truncated image: its data window claims {} x {} texels, more than its {} bytes can hold", name, w64, h64, size));
+        checkClaimedTexels(name, static_cast<std::uint64_t>(w64), static_cast<std::uint64_t>(h64), size, "data window");
         requireTexelMemory(name, static_cast<std::uint64_t>(w64), static_cast<std::uint64_t>(h64), 4, sizeof(Imf::Rgba) / 4);
         const int w = static_cast<int>(w64), h = static_cast<int>(h64);
         std::vector<Imf::Rgba> pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
@@ -166,13 +174,7 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
         const char* why = stbi_failure_reason();
         throw InputError(fmt::format("{}: not an image symphong reads (PNG, JPEG, BMP, TGA, HDR or EXR){}{}", name, why ? ": " : "", why ? why : ""));
     }
-    // stb_image decodes a truncated file as if its missing bytes were zeros, so a 31-byte header can claim
-    // gigabytes. No real image holds more than about 8,256 texels a byte (a one-colour 1-bit PNG:
-    // deflate's 1032:1 times 8 pixels a byte): a header claiming more than 16,384 texels per byte of the
-    // file is truncated (found by fuzzing, docs/reliability.md).
-    const std::uint64_t claimed = saturatingMultiply(static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h));
-    if (claimed > saturatingMultiply(size, 16384) + (std::uint64_t{1} << 16))
-        throw InputError(fmt::format("{}: truncated image: its header claims {} x {} texels, more than its {} bytes can hold", name, w, h, size));
+    checkClaimedTexels(name, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), size, "header");
     const bool hdr = stbi_is_hdr_from_memory(data, len) != 0;
     const bool sixteen = !hdr && stbi_is_16_bit_from_memory(data, len) != 0;
     requireTexelMemory(name, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), static_cast<std::uint64_t>(comp), hdr ? 4 : (sixteen ? 2 : 1));
@@ -186,34 +188,42 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
         const char* why = stbi_failure_reason();
         throw InputError(fmt::format("{}: corrupt or truncated image{}{}", name, why ? ": " : "", why ? why : ""));
     }
+    if (!hdr && !sixteen) return textureFrom8Bit(name, w, h, comp, static_cast<const unsigned char*>(decoded.get()), encoding);
     const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * static_cast<std::size_t>(comp);
     std::vector<float> texels(n);
-    // Colour channels: all but the alpha of a grey+alpha or RGBA image.
-    const int colourChannels = comp == 2 || comp == 4 ? comp - 1 : comp;
-    const bool srgb = encoding == TextureEncoding::Srgb && !hdr;
     if (hdr) {
         const float* f = static_cast<const float*>(decoded.get());
         std::copy(f, f + n, texels.begin());
         checkTexels(name, texels, w, comp);
-    } else if (sixteen) {
+    } else {
+        // 16-bit: colour channels (all but the alpha of a grey+alpha or RGBA image) through the sRGB curve.
+        const int colourChannels = comp == 2 || comp == 4 ? comp - 1 : comp;
+        const bool srgb = encoding == TextureEncoding::Srgb;
         const auto* s = static_cast<const std::uint16_t*>(decoded.get());
         for (std::size_t i = 0; i < n; ++i) {
             const double v = s[i] / 65535.0;
             texels[i] = static_cast<float>(srgb && static_cast<int>(i % static_cast<std::size_t>(comp)) < colourChannels ? srgbToLinear(v) : v);
         }
-    } else {
-        std::array<float, 256> linear{}, srgbTable{};
-        for (int i = 0; i < 256; ++i) {
-            linear[static_cast<std::size_t>(i)] = static_cast<float>(i / 255.0);
-            srgbTable[static_cast<std::size_t>(i)] = static_cast<float>(srgbToLinear(i / 255.0));
-        }
-        const auto* b = static_cast<const unsigned char*>(decoded.get());
-        for (std::size_t i = 0; i < n; ++i) {
-            const bool colour = srgb && static_cast<int>(i % static_cast<std::size_t>(comp)) < colourChannels;
-            texels[i] = (colour ? srgbTable : linear)[b[i]];
-        }
     }
     return Texture(name, w, h, comp, std::move(texels));
+}
+
+Texture textureFrom8Bit(const std::string& name, int width, int height, int channels, const unsigned char* bytes, TextureEncoding encoding) {
+    std::array<float, 256> linear{}, srgbTable{};
+    for (int i = 0; i < 256; ++i) {
+        linear[static_cast<std::size_t>(i)] = static_cast<float>(i / 255.0);
+        srgbTable[static_cast<std::size_t>(i)] = static_cast<float>(srgbToLinear(i / 255.0));
+    }
+    // Colour channels: all but the alpha of a grey+alpha or RGBA image.
+    const int colourChannels = channels == 2 || channels == 4 ? channels - 1 : channels;
+    const bool srgb = encoding == TextureEncoding::Srgb;
+    const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels);
+    std::vector<float> texels(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool colour = srgb && static_cast<int>(i % static_cast<std::size_t>(channels)) < colourChannels;
+        texels[i] = (colour ? srgbTable : linear)[bytes[i]];
+    }
+    return Texture(name, width, height, channels, std::move(texels));
 }
 
 Texture loadTextureFile(const std::string& path, TextureEncoding encoding) {

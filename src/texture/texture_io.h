@@ -17,6 +17,11 @@ namespace symphong {
 /// in memory.
 Texture decodeTexture(const std::string& name, const unsigned char* data, std::size_t size, TextureEncoding encoding);
 
+/// A texture from 8-bit texels (width x height x channels bytes, row 0 at the top): each scaled to
+/// [0,1], the colour channels (not the alpha of a 2- or 4-channel image) through the sRGB curve under
+/// TextureEncoding::Srgb.
+Texture textureFrom8Bit(const std::string& name, int width, int height, int channels, const unsigned char* bytes, TextureEncoding encoding);
+
 /// Reads and decodes an image file. Throws MissingFileError when it does not exist, InputError otherwise.
 Texture loadTextureFile(const std::string& path, TextureEncoding encoding);
 
