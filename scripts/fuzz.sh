@@ -29,18 +29,8 @@ jobs=${FUZZ_JOBS:-2}
 nice_level=${FUZZ_NICE:-10}
 
 # clang and libFuzzer's runtime (libclang-rt-14-dev on Debian 12 has libclang_rt.fuzzer).
-packages=(clang libclang-rt-14-dev)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  echo "fuzz: installing ${missing[*]}" >&2
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo=sudo
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+. scripts/install-missing.sh
+install_missing fuzz clang libclang-rt-14-dev
 
 nice -n "$nice_level" cmake --preset fuzz >/dev/null
 nice -n "$nice_level" cmake --build --preset fuzz

@@ -16,17 +16,8 @@ packages=(
   python3-matplotlib
   pybind11-dev python3-dev python3-numpy python3-pytest
 )
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  echo "setup: installing ${missing[*]}" >&2
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo=sudo
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+. scripts/install-missing.sh
+install_missing setup "${packages[@]}"
 
 cmake --preset release >/dev/null
 cmake --build --preset release
