@@ -141,6 +141,32 @@ void addLight(Scene& scene, const json& j, const std::string& where, const std::
     scene.lights.push_back(light);
 }
 
+/// "environment": {"map": file, "scale", "rotation", "filter"}: an HDR lat-long image
+/// (scene/environment_map.h), its file relative to the scene file's folder.
+EnvironmentMap environmentMap(const json& e, const std::filesystem::path& dir, const std::string& path) {
+    checkKeys(e, {"map", "scale", "rotation", "filter"}, "\"environment\"", path);
+    if (!e.contains("map") || !e["map"].is_string())
+        throw InputError(fmt::format("{}: environment.map must be the path of a lat-long image (.exr or .hdr)", path));
+    std::filesystem::path file = e["map"].get<std::string>();
+    if (file.is_relative()) file = dir / file;
+    const double scale = e.contains("scale") ? number(e["scale"], "environment.scale", path) : 1.0;
+    if (scale < 0) throw InputError(fmt::format("{}: environment.scale = {} is negative", path, scale));
+    const double rotation = e.contains("rotation") ? number(e["rotation"], "environment.rotation", path) : 0.0;
+    EnvironmentMap::Filter filter = EnvironmentMap::Filter::Bilinear;
+    if (e.contains("filter")) {
+        if (e["filter"] == "nearest") filter = EnvironmentMap::Filter::Nearest;
+        else if (e["filter"] != "bilinear")
+            throw InputError(fmt::format("{}: environment.filter {} is not \"bilinear\" or \"nearest\"", path, brief(e["filter"])));
+    }
+    try {
+        return EnvironmentMap(loadTextureFile(file.string(), TextureEncoding::Linear), scale, rotation, filter);
+    } catch (const MissingFileError& err) {
+        throw MissingFileError(fmt::format("{}: environment.map: {}", path, err.what()));
+    } catch (const InputError& err) {
+        throw InputError(fmt::format("{}: environment.map: {}", path, err.what()));
+    }
+}
+
 }  // namespace
 
 Scene loadJsonScene(const std::string& path) {
@@ -252,28 +278,7 @@ Scene loadJsonScene(const std::string& path) {
     if (environmentGiven) {
         const json& e = doc["environment"];
         if (e.is_object()) {
-            // An HDR lat-long image (scene/environment_map.h): {"map": file, "scale", "rotation", "filter"}.
-            checkKeys(e, {"map", "scale", "rotation", "filter"}, "\"environment\"", path);
-            if (!e.contains("map") || !e["map"].is_string())
-                throw InputError(fmt::format("{}: environment.map must be the path of a lat-long image (.exr or .hdr)", path));
-            std::filesystem::path file = e["map"].get<std::string>();
-            if (file.is_relative()) file = dir / file;
-            const double scale = e.contains("scale") ? number(e["scale"], "environment.scale", path) : 1.0;
-            if (scale < 0) throw InputError(fmt::format("{}: environment.scale = {} is negative", path, scale));
-            const double rotation = e.contains("rotation") ? number(e["rotation"], "environment.rotation", path) : 0.0;
-            EnvironmentMap::Filter filter = EnvironmentMap::Filter::Bilinear;
-            if (e.contains("filter")) {
-                if (e["filter"] == "nearest") filter = EnvironmentMap::Filter::Nearest;
-                else if (e["filter"] != "bilinear")
-                    throw InputError(fmt::format("{}: environment.filter {} is not \"bilinear\" or \"nearest\"", path, brief(e["filter"])));
-            }
-            try {
-                scene.environmentMap.emplace(loadTextureFile(file.string(), TextureEncoding::Linear), scale, rotation, filter);
-            } catch (const MissingFileError& err) {
-                throw MissingFileError(fmt::format("{}: environment.map: {}", path, err.what()));
-            } catch (const InputError& err) {
-                throw InputError(fmt::format("{}: environment.map: {}", path, err.what()));
-            }
+            scene.environmentMap.emplace(environmentMap(e, dir, path));
         } else {
             scene.environment = nonNegativeColor(e, "environment", path);
         }
