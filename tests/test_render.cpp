@@ -68,8 +68,9 @@ TEST(Furnace, CameraSeesEmissionOnlyAtDepthZero) {
 namespace {
 
 RenderResult renderWith(const Scene& scene, const Accel& accel, const Estimator& est, const std::string& sampler, int size,
-                        std::uint32_t spp, std::uint64_t seed, int threads, bool nee) {
+                        std::uint32_t spp, std::uint64_t seed, int threads, bool nee, const TraceSettings& trace = {}) {
     RenderSettings rs;
+    rs.trace = trace;
     rs.width = rs.height = size;
     rs.spp = spp;
     rs.seed = seed;
@@ -87,12 +88,13 @@ struct RepeatedBlocks {
 };
 
 RepeatedBlocks repeatedBlocks(const Scene& scene, const Accel& accel, const Estimator& est, const std::string& sampler, int size,
-                              std::uint32_t spp, int repeats, std::uint64_t seed, double scale = 1.0, bool nee = true) {
+                              std::uint32_t spp, int repeats, std::uint64_t seed, double scale = 1.0, bool nee = true,
+                              const TraceSettings& trace = {}) {
     const int b = 8, nb = (size / b) * (size / b);
     RepeatedBlocks out;
     out.blocks.assign(1 + nb, {});
     for (int r = 0; r < repeats; ++r) {
-        const RenderResult img = renderWith(scene, accel, est, sampler, size, spp, mixSeed(seed, r), 0, nee);
+        const RenderResult img = renderWith(scene, accel, est, sampler, size, spp, mixSeed(seed, r), 0, nee, trace);
         out.blocks[0].push_back(scale * blockMean(img, 0, 0, size, size).mean);
         for (int by = 0; by < size / b; ++by)
             for (int bx = 0; bx < size / b; ++bx)
@@ -139,8 +141,8 @@ protected:
     }
     /// Largest |t| of `name` (its own repeats) against the phong reference.
     static double against(const Estimator& est, std::uint32_t spp, std::uint64_t seed, std::string& where, double scale = 1.0,
-                          bool nee = true) {
-        return worstT(repeatedBlocks(*scene_, *accel_, est, "sobol", kSize, spp, kRepeats, seed, scale, nee), *reference_, where);
+                          bool nee = true, const TraceSettings& trace = {}) {
+        return worstT(repeatedBlocks(*scene_, *accel_, est, "sobol", kSize, spp, kRepeats, seed, scale, nee, trace), *reference_, where);
     }
     static double critical() { return studentCritical(2 * kRepeats - 2); }
     static Scene* scene_;
@@ -160,6 +162,41 @@ TEST_F(CornellAgreement, AllEstimatorsGiveTheSameMeanImage) {
         const double t = against(*est, spp, 7, where);
         std::printf("%s vs phong: largest |t| = %.2f (%s), critical %.2f\n", name.c_str(), t, where.c_str(), critical());
         EXPECT_LT(t, critical()) << name << " vs phong at " << where;
+    }
+}
+
+// symmetric-mix in both modes and with the paper's full orbit, first-hit splitting (phong and
+// symmetric-mix), the joint 4D pattern and another first-bounce stream: the same mean image as phong.
+TEST_F(CornellAgreement, SymmetricMixSplittingAndTheFirstBounceOptionsKeepTheMeanImage) {
+    struct Case {
+        const char* what;
+        std::string estimator;
+        SymmetricMode mode;
+        int orbit, split;
+        bool joint;
+        std::uint32_t stream;
+    };
+    const Case cases[] = {{"symmetric-mix spread, orbit 2", "symmetric-mix", SymmetricMode::Spread, 2, 1, false, 0},
+                          {"symmetric-mix spread, orbit 8", "symmetric-mix", SymmetricMode::Spread, 8, 1, false, 0},
+                          {"symmetric-mix branch, orbit 8", "symmetric-mix", SymmetricMode::Branch, 8, 1, false, 0},
+                          {"symmetric-mix spread, split 3", "symmetric-mix", SymmetricMode::Spread, 2, 3, false, 0},
+                          {"phong, split 2", "phong", SymmetricMode::Branch, 2, 2, false, 0},
+                          {"phong, joint 4D pattern", "phong", SymmetricMode::Branch, 2, 1, true, 0},
+                          {"cosine, first-bounce stream 5", "cosine", SymmetricMode::Branch, 2, 1, false, 5}};
+    for (const Case& c : cases) {
+        EstimatorOptions o;
+        o.symmetricMode = c.mode;
+        o.symmetricOrbit = c.orbit;
+        const auto est = makeEstimator(c.estimator, o);
+        TraceSettings trace;
+        trace.firstHitSplit = c.split;
+        trace.jointFirstBounce = c.joint;
+        trace.firstBounceStream = c.stream;
+        const std::uint32_t spp = std::max<std::uint32_t>(8, kSpp / static_cast<std::uint32_t>(c.split * (est->returnsSets() ? c.orbit : 1)));
+        std::string where;
+        const double t = against(*est, spp, 31, where, 1.0, true, trace);
+        std::printf("%s vs phong: largest |t| = %.2f (%s), critical %.2f\n", c.what, t, where.c_str(), critical());
+        EXPECT_LT(t, critical()) << c.what << " vs phong at " << where;
     }
 }
 
@@ -301,6 +338,77 @@ TEST(Render, NoPixelIsNaNOnAnyBundledScene) {
 // Cancellation is deterministic through the tile hook: cancelled after k finished tiles, a one-thread
 // render stops with exactly k tiles drawn; with more threads, at most the tiles already in flight
 // finish too.
+// Splitting is k calls on the sub-samples of the pixel's pattern: the first hit of a camera sample traces
+// k paths (k times the rays of its continuations), and k = 1 is the unsplit render bit for bit. The
+// first-bounce stream 0 is the render's own numbers; another stream changes the image but nothing else of
+// a render that never reaches a first bounce (max depth 0).
+TEST(Render, SplittingAndFirstBounceStreamsDoWhatTheySay) {
+    const Scene scene = loadScene("cornell");
+    const Accel accel(scene);
+    const auto phong = makeEstimator("phong");
+    TraceSettings one, two, stream;
+    one.firstHitSplit = 1;
+    two.firstHitSplit = 2;
+    const RenderResult a = renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true);
+    const RenderResult b = renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, one);
+    EXPECT_TRUE(sameBits(a.image, b.image));
+    TraceSettings noRoulette;
+    noRoulette.maxDepth = 1;
+    noRoulette.nextEvent = false;
+    TraceSettings noRoulette2 = noRoulette;
+    noRoulette2.firstHitSplit = 2;
+    const RenderResult c = renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, false, noRoulette);
+    const RenderResult d = renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, false, noRoulette2);
+    // Depth 1, no NEE: camera rays plus one ray per first-hit direction (two when split), none dropped
+    // below the surface more often than the other by more than a few percent.
+    const double extraUnsplit = static_cast<double>(c.stats.rays - c.stats.samples), extraSplit = static_cast<double>(d.stats.rays - d.stats.samples);
+    EXPECT_NEAR(extraSplit / extraUnsplit, 2.0, 0.1);
+    stream.firstBounceStream = 0;
+    EXPECT_TRUE(sameBits(a.image, renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, stream).image));
+    stream.firstBounceStream = 1;
+    EXPECT_FALSE(sameBits(a.image, renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, stream).image));
+    TraceSettings depth0 = stream;
+    depth0.maxDepth = 0;
+    TraceSettings depth0own;
+    depth0own.maxDepth = 0;
+    EXPECT_TRUE(sameBits(renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, depth0own).image,
+                         renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, depth0).image));
+}
+
+// The variance budget against independent values: (1) a zero-variance first bounce (cosine sampling of a
+// diffuse sphere inside a uniformly emitting sphere, depth 1, no NEE: every direction weighs rho_d and
+// sees Le) gives a first-bounce variance of exactly 0; uniform sampling there gives a positive one, equal
+// to the whole pixel variance (the pixel position does not matter inside the sphere: every pixel sees
+// the same radiance), within the sampling error of 8 pairs.
+TEST(Render, VarianceBudgetMatchesClosedFormsOnTheFurnace) {
+    const Scene scene = test::makeFurnaceSphere(1.0, 0.5);
+    const Accel accel(scene);
+    TraceSettings t1, t2;
+    t1.maxDepth = t2.maxDepth = 1;
+    t1.nextEvent = t2.nextEvent = false;
+    t1.firstBounceStream = 1;
+    t2.firstBounceStream = 2;
+    const auto cosine = makeEstimator("cosine"), uniform = makeEstimator("uniform");
+    const RenderResult c1 = renderWith(scene, accel, *cosine, "sobol", 8, 4, 9, 0, false, t1);
+    const RenderResult c2 = renderWith(scene, accel, *cosine, "sobol", 8, 4, 9, 0, false, t2);
+    EXPECT_NEAR(halfSquaredDifference(c1.image, c2.image), 0.0, 1e-24);
+    std::vector<double> budget, total;
+    std::vector<Image> images;
+    for (int pair = 0; pair < 8; ++pair) {
+        const RenderResult u1 = renderWith(scene, accel, *uniform, "independent", 8, 4, 100 + pair, 0, false, t1);
+        const RenderResult u2 = renderWith(scene, accel, *uniform, "independent", 8, 4, 100 + pair, 0, false, t2);
+        budget.push_back(halfSquaredDifference(u1.image, u2.image));
+        images.push_back(u1.image);
+    }
+    std::vector<const Image*> ptrs;
+    for (const Image& im : images) ptrs.push_back(&im);
+    const double pixelVariance = pixelVarianceAcrossRepeats(ptrs);
+    const auto b = test::meanAndError(budget);
+    EXPECT_GT(b.mean, 0.0);
+    // Each figure has about 64 pixels x 8 pairs of chi-square terms: agreement within 25%.
+    EXPECT_NEAR(b.mean / pixelVariance, 1.0, 0.25) << b.mean << " vs " << pixelVariance;
+}
+
 TEST(Render, CancellingAfterKTilesStopsThere) {
     const Scene scene = loadScene("cornell");
     const Accel accel(scene);

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -391,6 +392,104 @@ TEST(SobolSampler, PairsOfEveryPixelAreNets) {
                 }
         }
     }
+}
+
+namespace {
+
+/// (t, m, s)-net check for N = 2^m points in s dimensions (32-bit fixed point): every elementary box
+/// prod_j [a_j/2^d_j, (a_j+1)/2^d_j) with sum d_j = m - t holds exactly 2^t points. "" or the failure.
+std::string netFailureND(const std::vector<std::vector<std::uint32_t>>& pts, int t) {
+    const std::size_t n = pts.size(), s = pts.front().size();
+    const int m = std::countr_zero(n), total = m - t;
+    std::vector<int> d(s, 0);
+    std::string failure;
+    // Every composition of `total` into s parts.
+    std::function<void(std::size_t, int)> shapes = [&](std::size_t j, int left) {
+        if (!failure.empty()) return;
+        if (j + 1 == s) {
+            d[j] = left;
+            std::map<std::uint64_t, std::size_t> count;
+            for (const auto& p : pts) {
+                std::uint64_t key = 0;
+                for (std::size_t k = 0; k < s; ++k) key = (key << d[k]) | (d[k] ? std::uint64_t{p[k]} >> (32 - d[k]) : 0);
+                ++count[key];
+            }
+            const std::size_t boxes = std::size_t{1} << total;
+            if (count.size() != boxes) failure = "a box is empty";
+            for (const auto& [key, c] : count)
+                if (c != (n >> total)) failure = "a box holds " + std::to_string(c) + " points instead of " + std::to_string(n >> total);
+            return;
+        }
+        for (int k = 0; k <= left; ++k) {
+            d[j] = k;
+            shapes(j + 1, left - k);
+        }
+    };
+    shapes(0, total);
+    return failure;
+}
+
+}  // namespace
+
+// Sobol' dimensions 2 and 3 (Joe and Kuo's 3 and 4): their direction numbers m_k from the integer form of
+// the recurrence, m_k = 2 a_1 m_{k-1} ^ ... ^ 2^s m_{k-s} ^ m_{k-s}, against the matrix columns; the table
+// look-up against the definition; each dimension's first 2^k points stratified.
+TEST(LowDiscrepancy, SobolDimensionsTwoAndThree) {
+    const std::uint32_t m2[] = {1, 3, 3, 9, 29}, m3[] = {1, 3, 1, 5, 31};
+    for (int k = 1; k <= 5; ++k) {
+        EXPECT_EQ(kSobolDimension2.column[k - 1], m2[k - 1] << (32 - k)) << "dimension 2, column " << k;
+        EXPECT_EQ(kSobolDimension3.column[k - 1], m3[k - 1] << (32 - k)) << "dimension 3, column " << k;
+    }
+    Rng rng(1, 2);
+    for (int i = 0; i < 10000; ++i) {
+        const std::uint32_t index = static_cast<std::uint32_t>(rng.uniform() * 4294967296.0);
+        ASSERT_EQ(kSobolDimension2(index), kSobolDimension2.byDefinition(index));
+        ASSERT_EQ(kSobolDimension3(index), kSobolDimension3.byDefinition(index));
+    }
+    for (int k = 0; k <= 12; ++k) {
+        std::vector<std::uint32_t> a(1u << k), b(1u << k);
+        for (std::uint32_t i = 0; i < a.size(); ++i) a[i] = kSobolDimension2(i), b[i] = kSobolDimension3(i);
+        EXPECT_EQ(strataFailure(a), "") << "dimension 2, k = " << k;
+        EXPECT_EQ(strataFailure(b), "") << "dimension 3, k = " << k;
+    }
+}
+
+// The joint first bounce: a pixel's position pair (dimension 0) and its joint pair (value2DJoint) are
+// together the first four dimensions of an Owen-scrambled Sobol' sequence: a (3, m, 4)-net (t = the sum
+// of the degrees of the primitive polynomials less one each: 0 + 0 + 1 + 2), whose 2D projections
+// pairing a position dimension with a first-bounce dimension, and the first-bounce pair, are
+// (1, m, 2)-nets at m = 6 (Joe and Kuo's direction numbers, chosen for good 2D projections;
+// checked here by counting points in every elementary box). The padded pair at the same dimension is
+// matched to the position pair at random: its cross projections fail for most pixels.
+TEST(SobolSampler, JointPairAndPixelPairAreOneFourDimensionalNet) {
+    constexpr std::uint32_t n = 64;
+    const SobolSampler sampler(n, 9);
+    int paddedFailures = 0;
+    for (std::uint64_t pixel = 0; pixel < 20; ++pixel) {
+        const std::uint64_t key = sampler.pixelKey(pixel);
+        std::vector<std::vector<std::uint32_t>> joint(n), padded(n);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const Point2 px = sampler.value2D(key, i, n, 0), j = sampler.value2DJoint(key, i, n, kFarDim, 0),
+                         p = sampler.value2D(key, i, n, kFarDim);
+            joint[i] = {toFixed(px.u), toFixed(px.v), toFixed(j.u), toFixed(j.v)};
+            padded[i] = {toFixed(px.u), toFixed(px.v), toFixed(p.u), toFixed(p.v)};
+        }
+        const auto project = [](const std::vector<std::vector<std::uint32_t>>& pts, int a, int b) {
+            std::vector<std::vector<std::uint32_t>> out;
+            for (const auto& p : pts) out.push_back({p[static_cast<std::size_t>(a)], p[static_cast<std::size_t>(b)]});
+            return out;
+        };
+        EXPECT_EQ(netFailureND(joint, 3), "") << "pixel " << pixel;
+        EXPECT_EQ(netFailureND(project(joint, 2, 3), 1), "") << "pixel " << pixel;
+        bool paddedFails = false;
+        for (int a : {0, 1})
+            for (int b : {2, 3}) {
+                EXPECT_EQ(netFailureND(project(joint, a, b), 1), "") << "pixel " << pixel << ", dimensions " << a << ", " << b;
+                paddedFails = paddedFails || !netFailureND(project(padded, a, b), 1).empty();
+            }
+        paddedFailures += paddedFails ? 1 : 0;
+    }
+    EXPECT_GE(paddedFailures, 15);
 }
 
 TEST(SobolSampler, OneDimensionsOfEveryPixelAreStratified) {

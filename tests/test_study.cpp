@@ -159,7 +159,8 @@ TEST_F(TinyStudy, CsvHasAStableSchemaAndOneRowPerRender) {
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
               "scene,estimator,variant,sampler,mode,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
               "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
-              "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance");
+              "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance,split,"
+              "group_first_bounce_variance");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2 * 2);
     EXPECT_EQ(outcome_->rows.size(), 8u);
     for (const StudyRow& r : outcome_->rows) {
@@ -176,6 +177,53 @@ TEST_F(TinyStudy, CsvHasAStableSchemaAndOneRowPerRender) {
     ASSERT_GT(mse64, 0);
     EXPECT_GT(mse16 / mse64, 2.0);
     EXPECT_LT(mse16 / mse64, 8.0);
+}
+
+// --splits adds "+splitK" variants of the --split-estimators only, and never splits a branch-mode set
+// (it already traces many directions from its first hit).
+TEST(StudyVariants, SplitsAddVariantsOfTheSplitEstimatorsOnly) {
+    StudyConfig c;
+    c.estimators = {"cosine", "phong", "symmetric-mix"};
+    c.modes = {SymmetricMode::Branch, SymmetricMode::Spread};
+    c.splits = {2, 4};
+    std::vector<std::string> labels;
+    for (const StudyVariant& v : studyVariants(c)) {
+        labels.push_back(v.label);
+        EXPECT_EQ(v.split, v.label.find("+split") == std::string::npos ? 1 : std::stoi(v.label.substr(v.label.find("+split") + 6))) << v.label;
+    }
+    const std::vector<std::string> expected = {"cosine", "phong", "phong+split2", "phong+split4", "symmetric-mix",
+                                               "symmetric-mix+spread", "symmetric-mix+spread+split2", "symmetric-mix+spread+split4"};
+    EXPECT_EQ(labels, expected);
+}
+
+// The variance budget in a study: the rows of each variant at the top spp carry the first bounce's part of
+// the pixel variance (positive in the Cornell box), the other spp none; the report has the table. Its
+// values are checked against closed forms in tests/test_render.cpp (VarianceBudgetMatchesClosedForms...).
+TEST(StudyBudget, FirstBounceVarianceIsMeasuredAtTheTopSpp) {
+    const fs::path dir = freshDir("budget");
+    StudyConfig c;
+    c.scene = "cornell";
+    c.estimators = {"cosine", "uniform"};
+    c.spps = {4, 8};
+    c.repeats = 2;
+    c.width = c.height = 8;
+    c.referenceSpp = 64;
+    c.budgetPairs = 1;
+    c.outDir = dir.string();
+    c.plots = false;
+    const StudyOutcome o = runStudy(c);
+    for (const StudySummary& s : o.summary) {
+        if (s.spp == 8) {
+            EXPECT_GE(s.firstBounceVariance, 0.0) << s.variant;
+            EXPECT_GT(s.firstBounceVariance, 0.0) << s.variant << ": the box's first bounce is random";
+        } else {
+            EXPECT_LT(s.firstBounceVariance, 0.0) << s.variant << " at " << s.spp << " spp: not measured";
+        }
+    }
+    const std::string report = readAll(dir / "report.md");
+    EXPECT_NE(report.find("## Variance budget (1 pairs)"), std::string::npos);
+    EXPECT_NE(report.find("--budget-pairs 1"), std::string::npos);
+    fs::remove_all(dir);
 }
 
 TEST_F(TinyStudy, JsonHasConfigRowsSummaryAndConclusion) {

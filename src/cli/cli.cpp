@@ -45,6 +45,8 @@ struct RenderOptions {
     double exposure = 1.0;
     bool exrHalf = false;
     bool noNee = false;
+    int split = 1;
+    std::uint32_t firstBounceStream = 0;
     EstimatorOptions estimatorOptions;
 };
 
@@ -53,6 +55,11 @@ void addEstimatorOptions(CLI::App* cmd, EstimatorOptions& o, bool withMode = tru
         ->check(CLI::Range(1, 4096))
         ->capture_default_str();
     cmd->add_flag("--paper-refined", o.paperRefined, "paper: use the conclusion's finer lobe normalisation instead of Eq. (6)'s");
+    cmd->add_option("--symmetric-orbit", o.symmetricOrbit,
+                    "symmetric-mix: symmetric copies of one point used together, traced from one camera sample (branch) or "
+                    "spread over consecutive camera samples (spread): 1, 2, 4 or 8")
+        ->check(CLI::IsMember({1, 2, 4, 8}))
+        ->capture_default_str();
     if (!withMode) return;
     cmd->add_option_function<std::string>(
            "--symmetric-mode",
@@ -117,6 +124,16 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     r->add_flag("--exr-half", o.exrHalf, "write EXR as 16-bit half instead of 32-bit float");
+    r->add_option("--split", o.split,
+                  "first-hit splitting: trace K directions per camera sample from its first hit (K calls of the estimator on "
+                  "sub-samples of the pixel's pattern, each weighted 1/K)")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    r->add_option("--first-bounce-stream", o.firstBounceStream,
+                  "give the first hit's estimator other random numbers (stream S), every other decision of the path keeping its "
+                  "own: renders that differ only in S measure the first bounce's share of the variance (docs/estimators.md)")
+        ->check(CLI::Range(0, 1000000))
+        ->capture_default_str();
     r->add_flag("--no-nee", o.noNee, "no light sampling of emissive triangles: they are found only by the estimator's directions (point, spot and "
                 "directional lights are still sampled: nothing else can reach them)");
     addEstimatorOptions(r, o.estimatorOptions);
@@ -210,6 +227,8 @@ int runRender(const RenderOptions& o, const MpiJob& job) {
     settings.threads = o.threads;
     settings.trace.maxDepth = o.maxDepth;
     settings.trace.nextEvent = !o.noNee;
+    settings.trace.firstHitSplit = o.split;
+    settings.trace.firstBounceStream = o.firstBounceStream;
 
     const Accel accel(scene);
     std::atomic<std::uint64_t> done{0};
@@ -410,6 +429,7 @@ struct StudyOptions {
     std::string samplers = std::string(kDefaultSampler);
     std::string modes = "branch";
     std::vector<std::uint32_t> spps = {1, 4, 16, 64};
+    std::string splitEstimators = "phong,symmetric-mix";
     bool noPlots = false;
 };
 
@@ -430,6 +450,17 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
     s->add_option("--samplers", o.samplers, "samplers, comma-separated, or all: every estimator runs under each")->capture_default_str();
     s->add_option("--symmetric-modes", o.modes, "modes of paper and symmetric*, comma-separated: branch, spread, or all")->capture_default_str();
     s->add_option("--spp", o.spps, "samples per pixel, comma-separated")->delimiter(',')->check(CLI::Range(1u, 1000000u))->capture_default_str();
+    s->add_option("--splits", o.config.splits,
+                  "first-hit splitting: for each K > 1 also run every estimator of --split-estimators with K directions per "
+                  "camera sample from its first hit (a variant '+splitK'), comma-separated")
+        ->delimiter(',')
+        ->check(CLI::Range(1, 64));
+    s->add_option("--split-estimators", o.splitEstimators, "the estimators that --splits applies to, comma-separated")->capture_default_str();
+    s->add_option("--budget-pairs", o.config.budgetPairs,
+                  "variance budget: pairs of renders per variant at the top spp that differ only in the first bounce's random "
+                  "numbers; the report gives the first bounce's share of the pixel variance (0: none)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
     s->add_option("--repeats,-R", o.config.repeats, "independent renders per estimator and spp")->check(CLI::Range(1, 1000))->capture_default_str();
     s->add_option("--reference", o.config.referencePath, "reference image (linear EXR of the same size) instead of rendering one");
     s->add_option("--reference-spp", o.config.referenceSpp, "samples per pixel of the rendered reference")
@@ -457,6 +488,7 @@ int runStudyCommand(StudyOptions& o, const MpiJob& job) {
     o.config.modes.clear();
     for (const std::string& m : splitList(o.modes, {"branch", "spread"}, "--symmetric-modes")) o.config.modes.push_back(parseSymmetricMode(m));
     o.config.spps = o.spps;
+    o.config.splitEstimators = splitList(o.splitEstimators, estimatorNames(), "--split-estimators");
     o.config.plots = !o.noPlots;
     StudyOutcome outcome;
     {

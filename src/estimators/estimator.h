@@ -82,6 +82,7 @@ struct EstimatorOptions {
     int symmetricN = 1;         ///< N': (u,v) points per piece for `paper`, `symmetric`, `symmetric-shifted`
     bool paperRefined = false;  ///< `paper`: the conclusion's finer lobe normalisation instead of Eq. (6)'s
     SymmetricMode symmetricMode = SymmetricMode::Branch;  ///< `paper`, `symmetric*`: branch or spread
+    int symmetricOrbit = 2;     ///< `symmetric-mix`: copies of one point used together (1, 2, 4 or 8)
 };
 
 /// "branch" or "spread".
@@ -95,7 +96,7 @@ const std::vector<std::string>& estimatorNames();
 /// One line per estimator for --help.
 std::string estimatorHelp();
 
-/// Whether the named estimator has the branch and spread modes (`paper`, `symmetric`, `symmetric-shifted`).
+/// Whether the named estimator has the branch and spread modes (`paper`, `symmetric`, `symmetric-shifted`, `symmetric-mix`).
 bool hasSymmetricModes(std::string_view name);
 
 /// The sampler a render or furnace with this estimator uses: the estimator's own, else the one asked for.

@@ -159,9 +159,12 @@ std::vector<T> numberList(const py::object& value) {
     return {value.cast<T>()};
 }
 
-EstimatorOptions estimatorOptions(int symmetricN, bool paperRefined, const std::string& mode) {
+EstimatorOptions estimatorOptions(int symmetricN, bool paperRefined, const std::string& mode, int orbit = 2) {
     EstimatorOptions o;
     o.symmetricN = checkedRange<int>("symmetric_n", symmetricN, 1, 4096);
+    if (orbit != 1 && orbit != 2 && orbit != 4 && orbit != 8)
+        throw InputError(fmt::format("symmetric_orbit: {} is not one of 1, 2, 4, 8", orbit));
+    o.symmetricOrbit = orbit;
     o.paperRefined = paperRefined;
     try {
         o.symmetricMode = parseSymmetricMode(mode);
@@ -215,7 +218,8 @@ std::shared_ptr<PyScene> sceneArgument(const py::object& scene) {
 
 py::tuple renderPy(const py::object& sceneArg, const std::string& estimatorName, const std::string& sampler, long long spp, long long width,
                    long long height, long long maxDepth, const py::int_& seed, long long threads, bool nee, int symmetricN,
-                   const std::string& symmetricMode, bool paperRefined, bool variance, const std::optional<bool>& progress) {
+                   const std::string& symmetricMode, bool paperRefined, bool variance, const std::optional<bool>& progress, int symmetricOrbit,
+                   long long split, long long firstBounceStream, bool jointFirstBounce) {
     RenderSettings s;
     s.spp = checkedRange<std::uint32_t>("spp", spp, 1, 1000000);
     s.width = checkedRange<int>("width", width, 1, 16384);
@@ -227,13 +231,16 @@ py::tuple renderPy(const py::object& sceneArg, const std::string& estimatorName,
     s.seed = checkedSeed(seed);
     s.threads = checkedRange<int>("threads", threads, 0, 4096);
     s.trace.nextEvent = nee;
+    s.trace.firstHitSplit = checkedRange<int>("split", split, 1, 64);
+    s.trace.firstBounceStream = checkedRange<std::uint32_t>("first_bounce_stream", firstBounceStream, 0, 1000000);
+    s.trace.jointFirstBounce = jointFirstBounce;
     const auto& samplers = samplerNames();
     if (std::find(samplers.begin(), samplers.end(), sampler) == samplers.end())
         throw InputError(fmt::format("sampler: unknown sampler '{}' (valid: {})", sampler, fmt::join(samplers, ", ")));
     s.sampler = sampler;
     std::unique_ptr<Estimator> estimator;
     try {
-        estimator = makeEstimator(estimatorName, estimatorOptions(symmetricN, paperRefined, symmetricMode));
+        estimator = makeEstimator(estimatorName, estimatorOptions(symmetricN, paperRefined, symmetricMode, symmetricOrbit));
     } catch (const std::invalid_argument& e) {
         throw InputError(fmt::format("estimator: {}", e.what()));
     }
@@ -360,7 +367,8 @@ with the GIL released; Ctrl-C raises KeyboardInterrupt within a tile's time. Gui
 std::string renderDoc() {
     return "render(scene, estimator='phong', sampler='" + std::string(kDefaultSampler) +
            "', spp=64, width=512, height=512, max_depth=16, seed=1, threads=0, nee=True, "
-           "symmetric_n=1, symmetric_mode='branch', paper_refined=False, variance=False, progress=None)\n\n"
+           "symmetric_n=1, symmetric_mode='branch', paper_refined=False, variance=False, progress=None, symmetric_orbit=2, split=1, "
+           "first_bounce_stream=0)\n\n"
            "Renders `scene` (a Scene, or a spec string for load_scene) with the path tracer.\n\n"
            "Returns (image, stats), or (image, stats, variance) with variance=True:\n"
            "  image     float32 array (height, width, 3): linear radiance, row 0 at the top; bit for bit the EXR\n"
@@ -369,7 +377,10 @@ std::string renderDoc() {
            "            estimator, sampler (the one used: an estimator may require its own), spp, width, height, seed.\n"
            "  variance  float32 array (height, width, 3): per-pixel variance of the mean (sample variance / spp).\n\n"
            "threads=0 uses every core; the image does not depend on it. nee=False turns light sampling off\n"
-           "(--no-nee). symmetric_n, symmetric_mode ('branch' or 'spread') and paper_refined set the set estimators.\n"
+           "(--no-nee). symmetric_n, symmetric_mode ('branch' or 'spread'), symmetric_orbit and paper_refined set the set\n"
+           "estimators. split=K traces K directions from each camera sample's first hit (--split). first_bounce_stream\n"
+           "gives the first-bounce directions other random numbers, every other decision keeping its own (the\n"
+           "variance budget, --first-bounce-stream).\n"
            "progress: draw a progress bar on stderr (default: when stderr is a terminal).\n"
            "The GIL is released while rendering; Ctrl-C raises KeyboardInterrupt after the tiles in flight.\n\n"
            "Estimators:\n" +
@@ -593,7 +604,8 @@ Scene.warnings.)");
           py::arg("sampler") = std::string(kDefaultSampler), py::arg("spp") = 64, py::arg("width") = 512, py::arg("height") = 512,
           py::arg("max_depth") = 16, py::arg("seed") = py::int_(1), py::arg("threads") = 0, py::arg("nee") = true,
           py::arg("symmetric_n") = 1, py::arg("symmetric_mode") = "branch", py::arg("paper_refined") = false,
-          py::arg("variance") = false, py::arg("progress") = py::none());
+          py::arg("variance") = false, py::arg("progress") = py::none(), py::arg("symmetric_orbit") = 2, py::arg("split") = 1,
+          py::arg("first_bounce_stream") = 0, py::arg("joint_first_bounce") = false);
 
     m.def("furnace", &furnacePy, kFurnaceDoc, py::kw_only(), py::arg("estimators") = "all", py::arg("environments") = "constant",
           py::arg("rho_d") = 0.3, py::arg("rho_s") = 0.6, py::arg("n") = 10.0, py::arg("theta") = 30.0, py::arg("phi") = 0.0,

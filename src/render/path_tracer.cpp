@@ -179,8 +179,24 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
 
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
-    samples.setDimension(depth == 0 ? SampleDimensions::kFirstHitEstimator : vertexDim + SampleDimensions::kEstimator);
-    estimator_.sample(sc, samples, dirs);
+    samples.setDimension(depth == 0 ? SampleDimensions::kFirstHitEstimator + settings_.firstBounceStream * SampleDimensions::kFirstHitStreamStride
+                                    : vertexDim + SampleDimensions::kEstimator);
+    if (depth == 0 && settings_.jointFirstBounce) samples.setJoint(samples.dimension(), SampleDimensions::kPixel);
+    if (depth == 0 && settings_.firstHitSplit > 1) {
+        // First-hit splitting: k calls on the camera sample's k sub-samples, each direction's weight / k.
+        const std::uint32_t k = static_cast<std::uint32_t>(settings_.firstHitSplit);
+        for (std::uint32_t j = 0; j < k; ++j) {
+            SampleStream sub = samples.split(j, k);
+            const std::size_t first = dirs.size();
+            estimator_.sample(sc, sub, dirs);
+            for (std::size_t i = first; i < dirs.size(); ++i) {
+                dirs[i].weight /= static_cast<double>(k);
+                dirs[i].misPdf *= static_cast<double>(k);
+            }
+        }
+    } else {
+        estimator_.sample(sc, samples, dirs);
+    }
     const Vec3 origin = p + ng * epsilon_;
     // `throughput` only steers Russian roulette. A branch of a K-direction set carries about 1/K of the
     // set's light; judging it by K times its weight keeps roulette from killing the branches of a set.
@@ -231,6 +247,11 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     return L;
 }
 
+double PathTracer::estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const {
+    const double p = estimator_.misPdf(sc, wi);
+    return sc.depth == 0 && settings_.firstHitSplit > 1 ? p * settings_.firstHitSplit : p;
+}
+
 // Next-event estimation: one point on one emitter, weighted against the estimator by the power heuristic.
 Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
                                 TraceStats& stats) const {
@@ -256,7 +277,7 @@ Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& fram
     const Vec3 origin = p + ng * epsilon_;
     ++stats.rays;
     if (accel_.occluded(origin, q - origin, 0.0, 1.0 - 1e-5)) return Color(0.0);
-    const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
+    const double w = powerHeuristic(lightPdf, estimatorMisPdf(sc, wiLocal));
     const PhongMaterial& emitter = scene_.materials[t.material];
     // q = b.u v0 + b.v v1 + (1 - b.u - b.v) v2: barycentrics (b.v, 1 - b.u - b.v) of vertices 1 and 2.
     Color Le = emitter.emission;
@@ -281,7 +302,7 @@ Color PathTracer::sampleEnvironment(const Vec3& p, const Vec3& ng, const Frame& 
     ++stats.rays;
     if (accel_.occluded(p + ng * epsilon_, wi, 0.0, std::numeric_limits<double>::infinity())) return Color(0.0);
     const double lightPdf = pick * pdf;
-    const double w = powerHeuristic(lightPdf, estimator_.misPdf(sc, wiLocal));
+    const double w = powerHeuristic(lightPdf, estimatorMisPdf(sc, wiLocal));
     return f * env.radiance(wi) * (wiLocal.z * w / lightPdf);
 }
 

@@ -21,6 +21,18 @@ struct TraceSettings {
     int maxDepth = 16;     ///< most scattering events on a path; 0 shows emitters only
     int rrDepth = 3;       ///< Russian roulette from this depth on
     bool nextEvent = true; ///< light sampling (next-event estimation) combined by MIS
+    /// First-hit splitting: the estimator is called this many times at the first hit (sub-samples j of
+    /// k of the camera sample, SampleStream::split), each direction weighted 1/k and continued as a path
+    /// of its own; 1: no splitting.
+    int firstHitSplit = 1;
+    /// Which block of sampler dimensions the first hit's estimator reads: 0 is the render's own; another
+    /// value gives the first-bounce directions numbers independent of the render's while every other
+    /// decision of the path keeps its numbers (the variance budget: the spread of renders that differ
+    /// only in this value is the part of the variance that comes from the first-bounce directions).
+    std::uint32_t firstBounceStream = 0;
+    /// Whether the first hit's first pair of estimator dimensions and the pixel position form one 4D
+    /// pattern (Sampler::value2DJoint) instead of two independently matched pairs.
+    bool jointFirstBounce = false;
 };
 
 struct TraceStats {
@@ -72,6 +84,7 @@ struct SampleDimensions {
     static constexpr std::uint64_t kRoulette = 7;         ///<   Russian roulette on arriving at this vertex
     static constexpr std::uint64_t kPathStride = 1u << 14;  ///< > kPerBounce x (max depth 1024 + 1)
     static constexpr std::uint64_t kFirstHitEstimator = 1ull << 40;  ///< the first hit's estimator: a block of any size
+    static constexpr std::uint64_t kFirstHitStreamStride = 1ull << 32;  ///< TraceSettings::firstBounceStream s reads from kFirstHitEstimator + s x this
     /// First dimension of the vertex at `depth` of path `path`.
     static constexpr std::uint64_t vertex(int depth, std::uint64_t path) {
         return kFirstBounce + path * kPathStride + static_cast<std::uint64_t>(depth) * kPerBounce;
@@ -125,6 +138,9 @@ private:
     /// continuation.
     Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf,
                 const Color& throughput, PathContext& pc) const;
+    /// The estimator's misPdf at this vertex, times the first hit's split count k at depth 0 (k calls:
+    /// the density of the whole set of directions, as MIS needs it).
+    double estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const;
     Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
     /// A direction from the environment map's importance sampling (picked with probability `pick`),
     /// weighted against the estimator by the power heuristic.

@@ -73,6 +73,52 @@ constexpr std::uint32_t sobolDimension1(std::uint32_t index) {
     return t[0][index & 0xFFu] ^ t[1][(index >> 8) & 0xFFu] ^ t[2][(index >> 16) & 0xFFu] ^ t[3][index >> 24];
 }
 
+/// The 32 generator-matrix columns of a Sobol' dimension from its primitive polynomial (degree s,
+/// inner coefficients a, a_1 the most significant of s-1 bits) and initial numbers m_1..m_s (Joe and Kuo
+/// 2008, "Constructing Sobol sequences with better two-dimensional projections"): V_k = m_k 2^(32-k) for
+/// k <= s, then V_k = V_{k-s} ^ (V_{k-s} >> s) ^ XOR_{j=1..s-1} a_j V_{k-j}. Column k - 1 is the output
+/// of index bit k - 1.
+struct SobolMatrix {
+    std::uint32_t column[32] = {};
+    constexpr SobolMatrix(int s, std::uint32_t a, const std::uint32_t* m) {
+        for (int k = 1; k <= 32; ++k) {
+            std::uint32_t v;
+            if (k <= s) {
+                v = m[k - 1] << (32 - k);
+            } else {
+                v = column[k - s - 1] ^ (column[k - s - 1] >> s);
+                for (int j = 1; j < s; ++j)
+                    if ((a >> (s - 1 - j)) & 1u) v ^= column[k - j - 1];
+            }
+            column[k - 1] = v;
+        }
+        for (int b = 0; b < 4; ++b)
+            for (std::uint32_t i = 0; i < 256; ++i) byteTable[b][i] = byDefinition(i << (8 * b));
+    }
+    std::uint32_t byteTable[4][256] = {};  ///< XOR of the columns of each byte value's bits, per byte position
+    /// x_i = XOR of the columns of the set bits of i, by definition (a reference for tests).
+    constexpr std::uint32_t byDefinition(std::uint32_t index) const {
+        std::uint32_t x = 0;
+        for (int k = 0; index != 0; ++k, index >>= 1)
+            if (index & 1u) x ^= column[k];
+        return x;
+    }
+    /// The same by four table look-ups (the map is linear over GF(2), so the bytes' parts XOR).
+    constexpr std::uint32_t operator()(std::uint32_t index) const {
+        return byteTable[0][index & 0xFFu] ^ byteTable[1][(index >> 8) & 0xFFu] ^ byteTable[2][(index >> 16) & 0xFFu] ^
+               byteTable[3][index >> 24];
+    }
+};
+
+namespace detail {
+inline constexpr std::uint32_t kSobolM2[2] = {1, 3};     // Joe-Kuo dimension 3: x^2 + x + 1, m = 1, 3
+inline constexpr std::uint32_t kSobolM3[3] = {1, 3, 1};  // Joe-Kuo dimension 4: x^3 + x + 1, m = 1, 3, 1
+}  // namespace detail
+/// Sobol' dimensions 2 and 3 (0-based; Joe and Kuo's dimensions 3 and 4): with dimensions 0 and 1 the
+/// first four dimensions of the sequence, for a 4D pattern (the pixel position and the first bounce).
+inline constexpr SobolMatrix kSobolDimension2{2, 1, detail::kSobolM2};
+inline constexpr SobolMatrix kSobolDimension3{3, 1, detail::kSobolM3};
+
 /// 32-bit integer hash with full avalanche (Wellons' "lowbias32").
 constexpr std::uint32_t hash32(std::uint32_t x) {
     x ^= x >> 16;

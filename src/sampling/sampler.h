@@ -39,6 +39,14 @@ public:
     virtual double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const = 0;
     /// Values of the dimension pair (dim, dim+1), in [0,1)^2.
     virtual Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const = 0;
+    /// The pair (dim, dim+1) as the second half of a 4D pattern whose first half is the pair `partner`:
+    /// the samples' points in the two pairs are matched jointly instead of independently (sobol: Sobol'
+    /// dimensions 2 and 3 at the index order of the partner pair). Each value stays uniform on its own.
+    /// Default (samplers without a 4D pattern): value2D.
+    virtual Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const {
+        (void)partner;
+        return value2D(key, index, count, dim);
+    }
 
     /// Dimension `dim` of camera sample `index` of pixel `pixel`.
     double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const { return value1D(pixelKey(pixel), index, spp_, dim); }
@@ -87,6 +95,8 @@ public:
     std::string_view name() const override { return "sobol"; }
     double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
     Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
+    /// (owen(sobol_2(j), s_0'), owen(sobol_3(j), s_1')), j the partner pair's permuted index, s' hashed from dim.
+    Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const override;
 };
 
 /// Names accepted by makeSampler, in the order --help lists them.
@@ -103,13 +113,31 @@ std::unique_ptr<Sampler> makeSampler(std::string_view name, std::uint32_t sample
 class SampleStream {
 public:
     SampleStream(const Sampler& sampler, std::uint64_t pixel, std::uint32_t index, std::uint64_t dim = 0)
-        : sampler_(&sampler), pixel_(pixel), key_(sampler.pixelKey(pixel)), index_(index), dim_(dim) {}
+        : sampler_(&sampler), pixel_(pixel), key_(sampler.pixelKey(pixel)), index_(index), count_(sampler.samplesPerPixel()), dim_(dim) {}
+
+    /// Sub-sample j of k of this sample (first-hit splitting): sample index x k + j of a pattern of
+    /// count x k samples of the same pixel, at the current dimension. The k sub-samples of the pixel's
+    /// count samples are together one pattern of count x k (a stratified or low-discrepancy sampler
+    /// stratifies them jointly), and each sub-sample's values are as uniform as a camera sample's.
+    SampleStream split(std::uint32_t j, std::uint32_t k) const {
+        SampleStream s = *this;
+        s.jointDim_ = kNoJoint;  // a partner pair is matched to the camera samples, not to sub-samples
+        s.index_ = index_ * k + j;
+        s.count_ = count_ * k;
+        return s;
+    }
 
     void setDimension(std::uint64_t dim) { dim_ = dim; }
+    /// The pair read by get2D() at dimension `dim` becomes the second half of a 4D pattern with the pair
+    /// at `partner` (Sampler::value2DJoint); other reads are unchanged.
+    void setJoint(std::uint64_t dim, std::uint64_t partner) {
+        jointDim_ = dim;
+        jointPartner_ = partner;
+    }
     std::uint64_t dimension() const { return dim_; }
-    double get1D() { return sampler_->value1D(key_, index_, sampler_->samplesPerPixel(), dim_++); }
+    double get1D() { return sampler_->value1D(key_, index_, count_, dim_++); }
     Point2 get2D() {
-        const Point2 p = sampler_->value2D(key_, index_, sampler_->samplesPerPixel(), dim_);
+        const Point2 p = dim_ == jointDim_ ? sampler_->value2DJoint(key_, index_, count_, dim_, jointPartner_) : sampler_->value2D(key_, index_, count_, dim_);
         dim_ += 2;
         return p;
     }
@@ -134,6 +162,8 @@ public:
     /// The next pair's values shared by every sample of this sample's round: sample `round` of a
     /// pattern of patternRounds(entries) samples, so the rounds' points are themselves stratified.
     Point2 roundPoint(std::uint32_t entries) { return get2DOf(patternRound(entries), patternRounds(entries)); }
+    /// The next dimension's value shared by every sample of this sample's round (one dimension).
+    double roundValue(std::uint32_t entries) { return sampler_->value1D(key_, patternRound(entries), patternRounds(entries), dim_++); }
     /// The point of a pattern entry that uses point `pointIndex` of its set: with `shared`, the
     /// round's point from the pointIndex-th pair after the current dimension (roundPoint); otherwise this
     /// sample's own next pair.
@@ -145,14 +175,18 @@ public:
 
     std::uint64_t pixel() const { return pixel_; }
     std::uint32_t sampleIndex() const { return index_; }
-    std::uint32_t samplesPerPixel() const { return sampler_->samplesPerPixel(); }
+    /// Samples of the pattern this stream's sample belongs to: the pixel's spp, or spp x k for a split one.
+    std::uint32_t samplesPerPixel() const { return count_; }
     std::uint64_t seed() const { return sampler_->seed(); }
 
 private:
     const Sampler* sampler_;
     std::uint64_t pixel_, key_;
     std::uint32_t index_;
+    std::uint32_t count_;  ///< samples of the pattern: the pixel's spp, or spp x k for a split stream
     std::uint64_t dim_;
+    static constexpr std::uint64_t kNoJoint = ~0ull;
+    std::uint64_t jointDim_ = kNoJoint, jointPartner_ = 0;
 };
 
 }  // namespace symphong

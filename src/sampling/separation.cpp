@@ -107,6 +107,19 @@ Vec3 quadrangleMap(Point2 p) {
     return fromDiskTangent(r2 + p.v * (1.0 - r2), t);
 }
 
+Vec3 octantCosineMap(Point2 p) {
+    if (p.u < kTriangleShare) return triangleMap({std::min(p.u / kTriangleShare, kOneBelow), p.v});
+    return quadrangleMap({std::min((p.u - kTriangleShare) / (1.0 - kTriangleShare), kOneBelow), p.v});
+}
+
+Vec3 phongWedgeMap(Point2 p, double n) {
+    const double phi = p.u * kPi / 4.0;
+    // cos(alpha) = v^(1/(n+1)) = exp(log(v)/(n+1)); sin(alpha) from 1 - cos^2 = -expm1(2 log(v)/(n+1)), exact at large n.
+    const double lv = std::log(std::max(p.v, 1e-300)) / (n + 1.0);
+    const double cosA = std::exp(lv), sinA = std::sqrt(std::max(0.0, -std::expm1(2.0 * lv)));
+    return {sinA * std::cos(phi), sinA * std::sin(phi), cosA};
+}
+
 namespace {
 
 /// c(phi) = 1 - (cos^2 phi / (1 + cos^2 phi))^((n+1)/2): the lobe's share inside the triangle at phi,

@@ -121,6 +121,27 @@ Vec3 lobeTriangleMap(Point2 p, double n);
 double lobeTriangleDensity(const Vec3& w, double n);
 
 // ---------------------------------------------------------------------------------------------------
+// The pieces of `symmetric-mix` (docs/estimators.md, section 7): the diffuse pieces drawn in proportion
+// to their projected solid angle, and the Phong lobe cut into 8 azimuth wedges instead of the cube face.
+
+/// Share of the triangle in its octant's projected solid angle:  Phi_T / (pi/8) = 0.554126. Drawing the
+/// triangle with this probability and the quadrangle with 1 - kTriangleShare, each by its exact map, is
+/// cosine sampling of the octant (p = cos(theta) / (pi/8) = 8 cos(theta)/pi on the octant); the 8
+/// octants by symmetry make it cosine sampling of the hemisphere (cause 1 of the symmetric-mix issue).
+inline const double kTriangleShare = kTriangleProjected / (kPi / 8.0);
+
+/// Cosine-weighted direction in octant 0 from one point: the triangle with probability kTriangleShare
+/// (u rescaled onto [0,1) inside its share), else the quadrangle, each by its exact map.
+///   p(w) = 8 cos(theta) / pi  on octant 0 (T_0 u Q_0).
+Vec3 octantCosineMap(Point2 p);
+
+/// Wedge 0 (azimuth 0..pi/4 about the lobe axis +Z) of the exact Phong lobe:
+///   phi = u pi/4,   cos(alpha) = v^(1/(n+1))   (the CDF of cos^n(alpha) sin(alpha) on [0, pi/2]).
+///   p(w) = 8 (n+1)/(2 pi) cos^n(alpha)  on the wedge: the lobe's density, times 8 for the wedge's share.
+/// Unlike the cube-face triangles (erratum 5) the 8 wedges cover the whole lobe, at every n.
+Vec3 phongWedgeMap(Point2 p, double n);
+
+// ---------------------------------------------------------------------------------------------------
 // Carrying the triangles onto the lobe (Eq. 6 and the rotation that follows it).
 
 /// The local frame turned about the normal so that the mirror direction r lies in the (Y,Z) plane at

@@ -113,6 +113,16 @@ double pixelVarianceAcrossRepeats(const std::vector<const Image*>& repeats) {
     return n ? total / n : 0.0;
 }
 
+double halfSquaredDifference(const Image& a, const Image& b) {
+    checkSameSize(a, b);
+    double total = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+        const double d = luminance(a.pixels[i]) - luminance(b.pixels[i]);
+        total += 0.5 * d * d;
+    }
+    return a.pixels.empty() ? 0.0 : total / static_cast<double>(a.pixels.size());
+}
+
 std::vector<float> relativeErrorMap(const Image& img, const Image& ref) {
     checkSameSize(img, ref);
     std::vector<float> out(img.pixels.size());

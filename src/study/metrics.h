@@ -50,6 +50,10 @@ BiasEstimate relativeBias(const std::vector<MeanWithError>& repeats, const MeanW
 /// Mean over pixels of the variance of a pixel's luminance across R >= 2 repeats (unbiased, R - 1).
 double pixelVarianceAcrossRepeats(const std::vector<const Image*>& repeats);
 
+/// Mean over pixels of (Y_a - Y_b)^2 / 2 (luminance): for two renders that differ only in some of their
+/// random numbers, an unbiased estimate of the mean pixel variance those numbers cause (the variance budget).
+double halfSquaredDifference(const Image& a, const Image& b);
+
 /// Per-pixel relative error |Y - Y_ref| / (Y_ref + 0.01), for heat maps.
 std::vector<float> relativeErrorMap(const Image& img, const Image& ref);
 

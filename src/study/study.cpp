@@ -29,16 +29,17 @@ namespace symphong {
 const char* const kStudyCsvHeader =
     "scene,estimator,variant,sampler,mode,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
     "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
-    "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance";
+    "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance,split,"
+    "group_first_bounce_variance";
 
 std::string studyCsv(const std::vector<StudyRow>& rows) {
     std::string out = std::string(kStudyCsvHeader) + "\n";
     for (const StudyRow& r : rows)
-        out += fmt::format("{},{},{},{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g}\n",
+        out += fmt::format("{},{},{},{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g},{},{:.6g}\n",
                            r.scene, r.estimator, r.variant, r.sampler, r.mode, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples, r.meanLuminance,
                            r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.efficiencyRel, r.pixelVarianceWithin,
                            r.groupRelativeBias, r.groupBiasStdError, r.groupBiasZ, r.groupBiasThreshold, r.groupBiasSignificant ? 1 : 0,
-                           r.groupPixelVariance);
+                           r.groupPixelVariance, r.split, r.groupFirstBounceVariance);
     return out;
 }
 
@@ -61,25 +62,31 @@ std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
     for (StudySummary& s : out) {
         const auto& g = groups[{s.variant, s.spp}];
         const double n = static_cast<double>(g.size());
-        std::vector<double> eff, effRel;
+        std::vector<double> eff, effRel, rmse, mse, relMse;
+        double meanRmse = 0;
         for (const StudyRow* r : g) {
             s.seconds += r->seconds / n;
-            s.rmse += r->rmse / n;
-            s.mse += r->mse / n;
-            s.relMse += r->relMse / n;
+            meanRmse += r->rmse / n;
             s.rays += static_cast<double>(r->rays) / n;
             eff.push_back(r->efficiency);
             effRel.push_back(r->efficiencyRel);
+            rmse.push_back(r->rmse);
+            mse.push_back(r->mse);
+            relMse.push_back(r->relMse);
         }
         double spread = 0;
-        for (const StudyRow* r : g) spread += (r->rmse - s.rmse) * (r->rmse - s.rmse);
+        for (const StudyRow* r : g) spread += (r->rmse - meanRmse) * (r->rmse - meanRmse);
         s.rmseSpread = g.size() > 1 ? std::sqrt(spread / (n - 1) / n) : 0.0;  // standard error of the mean RMSE
         const auto median = [](std::vector<double> v) {
             std::sort(v.begin(), v.end());
             return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
         };
+        s.rmse = median(rmse);
+        s.mse = median(mse);
+        s.relMse = median(relMse);
         s.efficiency = median(eff);
         s.efficiencyRel = median(effRel);
+        s.firstBounceVariance = g.front()->groupFirstBounceVariance;
         s.relativeBias = g.front()->groupRelativeBias;
         s.biasStdError = g.front()->groupBiasStdError;
         s.biasZ = g.front()->groupBiasZ;
@@ -94,15 +101,26 @@ std::vector<StudyVariant> studyVariants(const StudyConfig& c) {
     for (const std::string& e : c.estimators) {
         const auto probe = makeEstimator(e, c.options);
         const bool set = hasSymmetricModes(e);
+        std::vector<int> splits{1};
+        if (std::find(c.splitEstimators.begin(), c.splitEstimators.end(), e) != c.splitEstimators.end())
+            for (int k : c.splits)
+                if (k > 1) splits.push_back(k);
         for (SymmetricMode mode : set ? c.modes : std::vector<SymmetricMode>{SymmetricMode::Branch})
-            for (const std::string& sampler : c.samplers) {
-                StudyVariant v;
-                v.estimator = e;
-                v.mode = mode;
-                v.sampler = effectiveSampler(*probe, sampler);
-                v.label = e + (set && mode == SymmetricMode::Spread ? "+spread" : "");
-                if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
-                if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; })) out.push_back(v);
+            for (int split : splits) {
+                // A branch-mode set already traces many directions from its first hit: not split further.
+                EstimatorOptions o = c.options;
+                o.symmetricMode = mode;
+                if (split > 1 && makeEstimator(e, o)->returnsSets()) continue;
+                for (const std::string& sampler : c.samplers) {
+                    StudyVariant v;
+                    v.estimator = e;
+                    v.mode = mode;
+                    v.split = split;
+                    v.sampler = effectiveSampler(*probe, sampler);
+                    v.label = e + (set && mode == SymmetricMode::Spread ? "+spread" : "") + (split > 1 ? fmt::format("+split{}", split) : "");
+                    if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
+                    if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; })) out.push_back(v);
+                }
             }
     }
     return out;
@@ -222,7 +240,8 @@ nlohmann::json rowJson(const StudyRow& r) {
             {"mse_raw", r.mseRaw}, {"mse", r.mse}, {"rmse", r.rmse}, {"relmse", r.relMse}, {"efficiency", r.efficiency}, {"efficiency_relmse", r.efficiencyRel},
             {"pixel_variance_within", r.pixelVarianceWithin}, {"group_relative_bias", r.groupRelativeBias},
             {"group_bias_std_error", r.groupBiasStdError}, {"group_bias_z", r.groupBiasZ}, {"group_bias_threshold", r.groupBiasThreshold},
-            {"group_bias_significant", r.groupBiasSignificant}, {"group_pixel_variance", r.groupPixelVariance}};
+            {"group_bias_significant", r.groupBiasSignificant}, {"group_pixel_variance", r.groupPixelVariance}, {"split", r.split},
+            {"group_first_bounce_variance", r.groupFirstBounceVariance}};
 }
 
 nlohmann::json summaryJson(const StudySummary& s) {
@@ -230,7 +249,8 @@ nlohmann::json summaryJson(const StudySummary& s) {
             {"rmse_spread", s.rmseSpread}, {"mse", s.mse}, {"relmse", s.relMse}, {"efficiency", s.efficiency},
             {"efficiency_relmse", s.efficiencyRel},
             {"relative_bias", s.relativeBias}, {"bias_std_error", s.biasStdError}, {"bias_z", s.biasZ},
-            {"bias_significant", s.biasSignificant}, {"pixel_variance", s.pixelVariance}};
+            {"bias_significant", s.biasSignificant}, {"pixel_variance", s.pixelVariance},
+            {"first_bounce_variance", s.firstBounceVariance}, {"first_bounce_share", s.firstBounceShare()}};
 }
 
 struct Crop {
@@ -250,10 +270,14 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
     if (cancelled) md += "**Interrupted**: these are the rows finished before the study was stopped.\n\n";
     md += fmt::format(
         "Scene `{}`, {}x{} pixels, max depth {}, {} independent repeat(s) per variant and sample count, seed {}. {}\n"
-        "A variant is an estimator under a sampler (`@sampler`), in spread mode for the set estimators (`+spread`).\n"
-        "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height {}`.\n\n",
+        "A variant is an estimator under a sampler (`@sampler`), in spread mode for the set estimators (`+spread`), with "
+        "K directions from each camera sample's first hit (`+splitK`).\n"
+        "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height {}{}{}{}`.\n\n",
         c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, referenceNote, c.scene, fmt::join(c.estimators, ","),
-        fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height);
+        fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height,
+        c.splits.empty() ? "" : fmt::format(" --splits {} --split-estimators {}", fmt::join(c.splits, ","), fmt::join(c.splitEstimators, ",")),
+        c.budgetPairs > 0 ? fmt::format(" --budget-pairs {}", c.budgetPairs) : "",
+        c.options.symmetricOrbit != EstimatorOptions{}.symmetricOrbit ? fmt::format(" --symmetric-orbit {}", c.options.symmetricOrbit) : "");
     if (processes > 1) md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
     md += "## Conclusion\n\n" + conclusion + "\n\n";
     for (const auto& s : summary)
@@ -271,9 +295,23 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
     } else {
         md += "Plots were not made (no python3 with matplotlib); run `python3 scripts/plot_study.py` on this folder.\n\n";
     }
-    md += "## Equal samples\n\nMeans over the repeats; RMSE of luminance against the reference (its own noise removed), "
+    // The variance budget: where the remaining variance comes from.
+    std::string budget;
+    for (const auto& s : summary)
+        if (s.firstBounceShare() >= 0)
+            budget += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.0f}% |\n", s.variant, s.spp, s.pixelVariance, s.firstBounceVariance,
+                                  100 * s.firstBounceShare());
+    if (!budget.empty())
+        md += fmt::format("## Variance budget ({} pairs)\n\nMean pixel variance (luminance) across the repeats, and the part of it that "
+                          "comes from the first-bounce directions: the mean of (Y_1 - Y_2)^2 / 2 over pairs of renders that differ only in "
+                          "the first hit's estimator numbers (`--first-bounce-stream` 1 and 2), every other decision of the path keeping "
+                          "its numbers. The rest comes from the pixel position, light sampling and the deeper bounces (law of total "
+                          "variance). With few repeats each figure is uncertain by tens of percent.\n\n"
+                          "| variant | spp | pixel variance | from the first bounce | share |\n|---|---:|---:|---:|---:|\n{}\n",
+                          c.budgetPairs, budget);
+    md += "## Equal samples\n\nMedians over the repeats; RMSE of luminance against the reference (its own noise removed), "
           "relMSE = mean of (Y - Y_ref)^2 / (Y_ref^2 + 0.01), bias of the mean image with its standard error (flagged when "
-          "|z| > 4), efficiency 1/(MSE x time) as the median over repeats, relative to `cosine` under the same sampler at the "
+          "|z| > 4), efficiency 1/(MSE x time), each the median over repeats (time: the mean), relative to `cosine` under the same sampler at the "
           "same spp.\n\nThe last column is the same with relMSE in place of MSE.\n\n"
           "| variant | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine | relMSE efficiency vs cosine |\n"
           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -357,6 +395,12 @@ std::uint32_t checkConfig(StudyConfig& c) {
     std::sort(c.spps.begin(), c.spps.end());
     c.spps.erase(std::unique(c.spps.begin(), c.spps.end()), c.spps.end());
     if (c.repeats < 1) throw InputError(fmt::format("--repeats {} must be at least 1", c.repeats));
+    for (int k : c.splits)
+        if (k < 1 || k > 64) throw InputError(fmt::format("--splits: {} is out of range (1..64)", k));
+    for (const auto& e : c.splitEstimators)
+        if (std::find(estimatorNames().begin(), estimatorNames().end(), e) == estimatorNames().end())
+            throw InputError(fmt::format("--split-estimators: unknown estimator '{}' (valid: {})", e, fmt::join(estimatorNames(), ", ")));
+    if (c.budgetPairs < 0 || c.budgetPairs > 64) throw InputError(fmt::format("--budget-pairs {} is out of range (0..64)", c.budgetPairs));
     const std::uint32_t heatSpp = c.heatmapSpp ? c.heatmapSpp : c.spps[c.spps.size() / 2];
     if (std::find(c.spps.begin(), c.spps.end(), heatSpp) == c.spps.end())
         throw InputError(fmt::format("--heatmap-spp {} is not one of the --spp values", heatSpp));
@@ -545,9 +589,11 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
         nlohmann::json j;
         nlohmann::json variantList = nlohmann::json::array();
         for (const auto& v : variants)
-            variantList.push_back({{"label", v.label}, {"estimator", v.estimator}, {"sampler", v.sampler}, {"mode", symmetricModeName(v.mode)}});
+            variantList.push_back({{"label", v.label}, {"estimator", v.estimator}, {"sampler", v.sampler}, {"mode", symmetricModeName(v.mode)},
+                                   {"split", v.split}});
         j["config"] = {{"scene", scene.name}, {"scene_spec", c.scene}, {"estimators", c.estimators}, {"samplers", c.samplers},
-                       {"variants", variantList}, {"spp", c.spps},
+                       {"variants", variantList}, {"spp", c.spps}, {"symmetric_orbit", c.options.symmetricOrbit},
+                       {"budget_pairs", c.budgetPairs},
                        {"repeats", c.repeats}, {"width", c.width}, {"height", c.height}, {"max_depth", c.maxDepth}, {"seed", c.seed},
                        {"processes", rt.processes()},
                        {"reference", {{"path", c.referencePath}, {"estimator", c.referenceEstimator}, {"spp", c.referenceSpp},
@@ -581,6 +627,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 RenderSettings rs = base;
                 rs.spp = spp;
                 rs.sampler = variant.sampler;
+                rs.trace.firstHitSplit = variant.split;
                 rs.seed = mixSeed(mixSeed(mixSeed(c.seed, ei + 1), spp), static_cast<std::uint64_t>(rep));
                 const RenderResult r = rt.render(scene, accel, *est, rs, &rowSamples);
                 doneBefore += cost[name] * spp * c.width * c.height;
@@ -598,6 +645,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 row.sampler = variant.sampler;
                 row.mode = std::string(symmetricModeName(variant.mode));
                 row.spp = spp;
+                row.split = variant.split;
                 row.repeat = rep;
                 row.width = c.width;
                 row.height = c.height;
@@ -634,6 +682,37 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 outcome.rows.resize(firstRow);  // keep only whole groups: their group columns are complete
                 break;
             }
+            // The variance budget at the top spp: pairs of renders that differ only in the first bounce's numbers.
+            double firstBounce = -1;
+            if (spp == c.spps.back() && c.budgetPairs > 0) {
+                double sum = 0;
+                for (int b = 0; b < c.budgetPairs && !outcome.cancelled; ++b) {
+                    RenderSettings rs = base;
+                    rs.spp = spp;
+                    rs.sampler = variant.sampler;
+                    rs.trace.firstHitSplit = variant.split;
+                    rs.seed = mixSeed(mixSeed(mixSeed(c.seed, ei + 1), 0xB0D6E7), static_cast<std::uint64_t>(b));
+                    Image pair[2];
+                    for (std::uint32_t stream = 1; stream <= 2 && !outcome.cancelled; ++stream) {
+                        {
+                            std::lock_guard<std::mutex> lock(labelMutex);
+                            currentLabel = fmt::format("{} {} spp, variance budget {}/{}", name, spp, b + 1, c.budgetPairs);
+                        }
+                        rs.trace.firstBounceStream = stream;
+                        const RenderResult r = rt.render(scene, accel, *est, rs, &rowSamples);
+                        doneBefore += cost[name] * spp * c.width * c.height;
+                        rowSamples = 0;
+                        outcome.cancelled = r.cancelled;
+                        pair[stream - 1] = r.image;
+                    }
+                    if (!outcome.cancelled && writer) sum += halfSquaredDifference(pair[0], pair[1]);
+                }
+                firstBounce = sum / c.budgetPairs;
+            }
+            if (outcome.cancelled) {
+                outcome.rows.resize(firstRow);
+                break;
+            }
             if (!writer) continue;
             const BiasEstimate bias = relativeBias(means, ref.mean);
             std::vector<const Image*> ptrs;
@@ -647,6 +726,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 row.groupBiasThreshold = bias.threshold;
                 row.groupBiasSignificant = bias.significant;
                 row.groupPixelVariance = pv;
+                row.groupFirstBounceVariance = firstBounce;
             }
             if (writer) writeResults();
         }

@@ -21,6 +21,15 @@ struct StudyConfig {
     std::vector<std::string> samplers = {std::string(kDefaultSampler)};  ///< every estimator runs under each
     std::vector<SymmetricMode> modes = {SymmetricMode::Branch};  ///< the set estimators run in each
     std::vector<std::uint32_t> spps = {1, 4, 16, 64};
+    /// First-hit splitting (TraceSettings::firstHitSplit): each k > 1 adds a variant "+splitk" of every
+    /// estimator of splitEstimators whose first hit takes one direction per call (spread mode for the set
+    /// estimators), so a split estimator is compared with others split the same way.
+    std::vector<int> splits;
+    std::vector<std::string> splitEstimators = {"phong", "symmetric-mix"};
+    /// Variance budget: this many pairs of renders of each variant at the top spp that differ only in the
+    /// first bounce's random numbers (TraceSettings::firstBounceStream); half their squared difference,
+    /// averaged, is the part of the pixel variance that comes from the first-bounce directions. 0: none.
+    int budgetPairs = 0;
     int repeats = 4;
     int width = 128, height = 128;
     int maxDepth = 16;
@@ -43,6 +52,7 @@ struct StudyConfig {
 struct StudyVariant {
     std::string estimator, sampler, label;
     SymmetricMode mode = SymmetricMode::Branch;
+    int split = 1;  ///< first-hit splitting: directions per camera sample at the first hit ("+splitk")
 };
 
 /// The variants of a configuration, estimator by estimator, in the order of the lists, without duplicates.
@@ -52,6 +62,7 @@ std::vector<StudyVariant> studyVariants(const StudyConfig& config);
 struct StudyRow {
     std::string scene, estimator, variant, sampler, mode;
     std::uint32_t spp = 0;
+    int split = 1;
     int repeat = 0;
     int width = 0, height = 0;
     double seconds = 0;
@@ -69,6 +80,9 @@ struct StudyRow {
     double groupBiasThreshold = 4;   ///< |z| above which the group's bias counts as significant
     bool groupBiasSignificant = false;
     double groupPixelVariance = 0;   ///< mean over pixels of the variance across repeats (needs R >= 2)
+    /// Mean over pixels of the variance that comes from the first-bounce directions (the variance budget,
+    /// StudyConfig::budgetPairs); negative when not measured (other spp, or no pairs).
+    double groupFirstBounceVariance = -1;
 };
 
 /// Aggregate of one (variant, spp) group.
@@ -80,14 +94,17 @@ struct StudySummary {
     double relativeBias = 0, biasStdError = 0, biasZ = 0;
     bool biasSignificant = false;
     double pixelVariance = 0;
+    double firstBounceVariance = -1;  ///< the variance budget's first-bounce part (negative: not measured)
+    /// Its share of the pixel variance across repeats (negative: not measured).
+    double firstBounceShare() const { return firstBounceVariance >= 0 && pixelVariance > 0 ? firstBounceVariance / pixelVariance : -1.0; }
 };
 
 /// The CSV header, fixed: downstream scripts rely on these names and this order.
 extern const char* const kStudyCsvHeader;
 std::string studyCsv(const std::vector<StudyRow>& rows);
 
-/// Groups rows by (variant, spp), in the order of first appearance; mean over repeats except
-/// efficiency (median, robust to one slow or noisy repeat).
+/// Groups rows by (variant, spp), in the order of first appearance; the median over repeats of every
+/// error and efficiency measure (robust to one firefly repeat), the mean of time and rays.
 std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows);
 
 /// One paragraph answering, from the numbers: which variant wins where, and by what factor; each
