@@ -492,6 +492,27 @@ TEST(SobolSampler, JointPairAndPixelPairAreOneFourDimensionalNet) {
     EXPECT_GE(paddedFailures, 15);
 }
 
+// value3D (symmetric-mix's point and family offset): the same values as value2D and value2DJoint's first
+// coordinate, bit for bit, for every sampler; under sobol the three are a (1, m, 3)-net (Sobol' dimensions
+// 0, 1, 2: t = 0 + 0 + 1).
+TEST(Samplers, Value3DIsThePairAndItsJointThirdCoordinate) {
+    for (const auto& sampler : allSamplers(64, 4)) {
+        for (std::uint64_t pixel : {0ull, 5ull}) {
+            const std::uint64_t key = sampler->pixelKey(pixel);
+            std::vector<std::vector<std::uint32_t>> pts;
+            for (std::uint32_t i = 0; i < 64; ++i) {
+                const Vec3 p = sampler->value3D(key, i, 64, kFarDim);
+                const Point2 a = sampler->value2D(key, i, 64, kFarDim), b = sampler->value2DJoint(key, i, 64, kFarDim + 2, kFarDim);
+                ASSERT_TRUE(sameBits(p.x, a.u) && sameBits(p.y, a.v) && sameBits(p.z, b.u)) << sampler->name();
+                if (sampler->name() == "sobol") pts.push_back({toFixed(p.x), toFixed(p.y), toFixed(p.z)});
+            }
+            if (sampler->name() == "sobol") {
+                EXPECT_EQ(netFailureND(pts, 1), "") << "pixel " << pixel;
+            }
+        }
+    }
+}
+
 TEST(SobolSampler, OneDimensionsOfEveryPixelAreStratified) {
     for (std::uint64_t seed : {std::uint64_t{1}, std::uint64_t{0xDEADBEEFCAFEull}})
         for (int k = 0; k <= 10; ++k) {

@@ -47,6 +47,7 @@ struct RenderOptions {
     bool noNee = false;
     int split = 1;
     std::uint32_t firstBounceStream = 0;
+    bool jointFirstBounce = false;
     EstimatorOptions estimatorOptions;
 };
 
@@ -70,8 +71,9 @@ void addEstimatorOptions(CLI::App* cmd, EstimatorOptions& o, bool withMode = tru
                    throw CLI::ValidationError("--symmetric-mode", e.what());
                }
            },
-           "paper, symmetric*: 'branch' (a camera sample traces the whole set from its first hit) or 'spread' (the set is "
-           "spread over a pixel's camera samples, one piece each) [default: branch]")
+           "paper, symmetric*: 'branch' (a camera sample traces the whole set from its first hit; symmetric-mix: its orbit "
+           "of --symmetric-orbit copies) or 'spread' (the set is spread over a pixel's camera samples, one piece or copy "
+           "each) [default: branch]")
         ->type_name("MODE");
 }
 
@@ -134,6 +136,10 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
                   "own: renders that differ only in S measure the first bounce's share of the variance (docs/estimators.md)")
         ->check(CLI::Range(0, 1000000))
         ->capture_default_str();
+    r->add_flag("--joint-first-bounce", o.jointFirstBounce,
+                "sobol: the pixel position and the first bounce's direction from one 4D Owen-scrambled Sobol' pattern instead of "
+                "two independently matched pairs (off by default: it lowers MSE for cosine but not for every estimator, "
+                "docs/sampling.md)");
     r->add_flag("--no-nee", o.noNee, "no light sampling of emissive triangles: they are found only by the estimator's directions (point, spot and "
                 "directional lights are still sampled: nothing else can reach them)");
     addEstimatorOptions(r, o.estimatorOptions);
@@ -229,6 +235,7 @@ int runRender(const RenderOptions& o, const MpiJob& job) {
     settings.trace.nextEvent = !o.noNee;
     settings.trace.firstHitSplit = o.split;
     settings.trace.firstBounceStream = o.firstBounceStream;
+    settings.trace.jointFirstBounce = o.jointFirstBounce;
 
     const Accel accel(scene);
     std::atomic<std::uint64_t> done{0};
@@ -461,6 +468,8 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
                   "numbers; the report gives the first bounce's share of the pixel variance (0: none)")
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
+    s->add_flag("--joint-first-bounce", o.config.jointFirstBounce,
+                "every render with the pixel position and the first bounce from one 4D Sobol' pattern (render --joint-first-bounce)");
     s->add_option("--repeats,-R", o.config.repeats, "independent renders per estimator and spp")->check(CLI::Range(1, 1000))->capture_default_str();
     s->add_option("--reference", o.config.referencePath, "reference image (linear EXR of the same size) instead of rendering one");
     s->add_option("--reference-spp", o.config.referenceSpp, "samples per pixel of the rendered reference")

@@ -101,8 +101,8 @@ void SymmetricMixEstimator::sample(const ShadingContext& ctx, SampleStream& samp
     }
     if (mode_ == SymmetricMode::Branch) {
         // The whole orbit from one camera sample: R copies of one point, each weighted f cos / (R q).
-        const Point2 uv = samples.get2D();
-        OrbitCopies copies(m, ctx.wo, makeOrbit(uv, samples.get1D(), orbit_), orbit_);
+        const Vec3 p = samples.get3D();  // under sobol, (u, v, t) are Sobol' dimensions 0-2 of one index
+        OrbitCopies copies(m, ctx.wo, makeOrbit({p.x, p.y}, p.z, orbit_), orbit_);
         for (int j = 0; j < orbit_; ++j) push(ctx, copies(j), static_cast<double>(orbit_), out);
         return;
     }
@@ -111,9 +111,8 @@ void SymmetricMixEstimator::sample(const ShadingContext& ctx, SampleStream& samp
     // patterns over the rounds (so both are stratified over the rounds).
     const std::uint32_t R = static_cast<std::uint32_t>(orbit_);
     const std::uint32_t j = samples.patternEntry(R);
-    const Point2 uv = samples.roundPoint(R);
-    const double t = samples.roundValue(R);
-    push(ctx, OrbitCopies(m, ctx.wo, makeOrbit(uv, t, orbit_), orbit_)(static_cast<int>(j)), 1.0, out);
+    const Vec3 p = samples.roundPoint3D(R);
+    push(ctx, OrbitCopies(m, ctx.wo, makeOrbit({p.x, p.y}, p.z, orbit_), orbit_)(static_cast<int>(j)), 1.0, out);
 }
 
 double SymmetricMixEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const {

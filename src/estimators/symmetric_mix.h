@@ -1,5 +1,5 @@
 // estimators/symmetric_mix.h — `symmetric-mix`: the paper's symmetric sampling with the three causes of
-// its losses to Phong-lobe sampling removed (docs/estimators.md, section 7). The structure is the
+// its losses to Phong-lobe sampling removed (docs/estimators.md, section 10). The structure is the
 // paper's: the hemisphere separated into 8 triangles + 8 quadrangles, a lobe covered by 8 pieces rotated
 // onto the mirror direction, and one point (u,v) reused in every octant by the signed permutations.
 // What changes:

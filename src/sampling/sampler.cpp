@@ -76,6 +76,14 @@ Point2 SobolSampler::value2D(std::uint64_t key, std::uint32_t index, std::uint32
     return {fixedToUnit(owenScrambledSobol0(j, low32(h))), fixedToUnit(owenScrambledSobol1(j, high32(h)))};
 }
 
+Vec3 SobolSampler::value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
+    const std::uint64_t h = mixSeed(key, 2 * dim);
+    const std::uint32_t j = permuteAny(index, count, pairPermutationSeed(h));
+    const std::uint32_t s2 = low32(mixSeed(key, 2 * (dim + 2)));
+    return {fixedToUnit(owenScrambledSobol0(j, low32(h))), fixedToUnit(owenScrambledSobol1(j, high32(h))),
+            fixedToUnit(owenScramble(kSobolDimension2(j), s2))};
+}
+
 Point2 SobolSampler::value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const {
     const std::uint32_t j = permuteAny(index, count, pairPermutationSeed(mixSeed(key, 2 * partner)));
     const std::uint64_t h = mixSeed(key, 2 * dim);

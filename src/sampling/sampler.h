@@ -14,6 +14,7 @@
 // docs/sampling.md says why, with measurements.
 #pragma once
 
+#include "math/vec3.h"
 #include "sampling/rng.h"
 
 #include <cstdint>
@@ -46,6 +47,13 @@ public:
     virtual Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const {
         (void)partner;
         return value2D(key, index, count, dim);
+    }
+    /// A 3D point: the pair (dim, dim+1) and, as z, the first value of value2DJoint(dim + 2, partner dim)
+    /// (matched jointly with the pair where the sampler can). Samplers may compute it at once; the values
+    /// are the same as the two calls'.
+    virtual Vec3 value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
+        const Point2 p = value2D(key, index, count, dim);
+        return {p.u, p.v, value2DJoint(key, index, count, dim + 2, dim).u};
     }
 
     /// Dimension `dim` of camera sample `index` of pixel `pixel`.
@@ -97,6 +105,8 @@ public:
     Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
     /// (owen(sobol_2(j), s_0'), owen(sobol_3(j), s_1')), j the partner pair's permuted index, s' hashed from dim.
     Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const override;
+    /// Sobol' dimensions 0, 1 and 2 at one permuted index: one permutation instead of two.
+    Vec3 value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
 };
 
 /// Names accepted by makeSampler, in the order --help lists them.
@@ -162,8 +172,18 @@ public:
     /// The next pair's values shared by every sample of this sample's round: sample `round` of a
     /// pattern of patternRounds(entries) samples, so the rounds' points are themselves stratified.
     Point2 roundPoint(std::uint32_t entries) { return get2DOf(patternRound(entries), patternRounds(entries)); }
-    /// The next dimension's value shared by every sample of this sample's round (one dimension).
-    double roundValue(std::uint32_t entries) { return sampler_->value1D(key_, patternRound(entries), patternRounds(entries), dim_++); }
+    /// Sampler::value3D at the next two pairs (x, y: the first pair; z: the joint third coordinate).
+    Vec3 get3D() {
+        const Vec3 p = sampler_->value3D(key_, index_, count_, dim_);
+        dim_ += 4;
+        return p;
+    }
+    /// The same, shared by every sample of this sample's round (a pattern over the rounds, as roundPoint).
+    Vec3 roundPoint3D(std::uint32_t entries) {
+        const Vec3 p = sampler_->value3D(key_, patternRound(entries), patternRounds(entries), dim_);
+        dim_ += 4;
+        return p;
+    }
     /// The point of a pattern entry that uses point `pointIndex` of its set: with `shared`, the
     /// round's point from the pointIndex-th pair after the current dimension (roundPoint); otherwise this
     /// sample's own next pair.

@@ -114,9 +114,10 @@ Vec3 octantCosineMap(Point2 p) {
 
 Vec3 phongWedgeMap(Point2 p, double n) {
     const double phi = p.u * kPi / 4.0;
-    // cos(alpha) = v^(1/(n+1)) = exp(log(v)/(n+1)); sin(alpha) from 1 - cos^2 = -expm1(2 log(v)/(n+1)), exact at large n.
-    const double lv = std::log(std::max(p.v, 1e-300)) / (n + 1.0);
-    const double cosA = std::exp(lv), sinA = std::sqrt(std::max(0.0, -std::expm1(2.0 * lv)));
+    // cos(alpha) = v^(1/(n+1)); sin(alpha) = sqrt((1 - cos)(1 + cos)), which keeps its relative precision
+    // near the axis (1 - cos is exact for cos in [1/2, 1], Sterbenz).
+    const double cosA = std::pow(p.v, 1.0 / (n + 1.0));
+    const double sinA = std::sqrt(std::max(0.0, (1.0 - cosA) * (1.0 + cosA)));
     return {sinA * std::cos(phi), sinA * std::sin(phi), cosA};
 }
 

@@ -121,7 +121,7 @@ Vec3 lobeTriangleMap(Point2 p, double n);
 double lobeTriangleDensity(const Vec3& w, double n);
 
 // ---------------------------------------------------------------------------------------------------
-// The pieces of `symmetric-mix` (docs/estimators.md, section 7): the diffuse pieces drawn in proportion
+// The pieces of `symmetric-mix` (docs/estimators.md, section 10): the diffuse pieces drawn in proportion
 // to their projected solid angle, and the Phong lobe cut into 8 azimuth wedges instead of the cube face.
 
 /// Share of the triangle in its octant's projected solid angle:  Phi_T / (pi/8) = 0.554126. Drawing the

@@ -276,7 +276,7 @@ std::string reportMarkdown(const StudyConfig& c, const std::string& sceneName, c
         c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, referenceNote, c.scene, fmt::join(c.estimators, ","),
         fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height,
         c.splits.empty() ? "" : fmt::format(" --splits {} --split-estimators {}", fmt::join(c.splits, ","), fmt::join(c.splitEstimators, ",")),
-        c.budgetPairs > 0 ? fmt::format(" --budget-pairs {}", c.budgetPairs) : "",
+        std::string(c.budgetPairs > 0 ? fmt::format(" --budget-pairs {}", c.budgetPairs) : "") + (c.jointFirstBounce ? " --joint-first-bounce" : ""),
         c.options.symmetricOrbit != EstimatorOptions{}.symmetricOrbit ? fmt::format(" --symmetric-orbit {}", c.options.symmetricOrbit) : "");
     if (processes > 1) md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
     md += "## Conclusion\n\n" + conclusion + "\n\n";
@@ -593,7 +593,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                                    {"split", v.split}});
         j["config"] = {{"scene", scene.name}, {"scene_spec", c.scene}, {"estimators", c.estimators}, {"samplers", c.samplers},
                        {"variants", variantList}, {"spp", c.spps}, {"symmetric_orbit", c.options.symmetricOrbit},
-                       {"budget_pairs", c.budgetPairs},
+                       {"budget_pairs", c.budgetPairs}, {"joint_first_bounce", c.jointFirstBounce},
                        {"repeats", c.repeats}, {"width", c.width}, {"height", c.height}, {"max_depth", c.maxDepth}, {"seed", c.seed},
                        {"processes", rt.processes()},
                        {"reference", {{"path", c.referencePath}, {"estimator", c.referenceEstimator}, {"spp", c.referenceSpp},
@@ -628,6 +628,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                 rs.spp = spp;
                 rs.sampler = variant.sampler;
                 rs.trace.firstHitSplit = variant.split;
+                    rs.trace.jointFirstBounce = c.jointFirstBounce;
                 rs.seed = mixSeed(mixSeed(mixSeed(c.seed, ei + 1), spp), static_cast<std::uint64_t>(rep));
                 const RenderResult r = rt.render(scene, accel, *est, rs, &rowSamples);
                 doneBefore += cost[name] * spp * c.width * c.height;
@@ -691,6 +692,7 @@ StudyOutcome runStudy(const StudyConfig& config, const std::atomic<bool>* cancel
                     rs.spp = spp;
                     rs.sampler = variant.sampler;
                     rs.trace.firstHitSplit = variant.split;
+                    rs.trace.jointFirstBounce = c.jointFirstBounce;
                     rs.seed = mixSeed(mixSeed(mixSeed(c.seed, ei + 1), 0xB0D6E7), static_cast<std::uint64_t>(b));
                     Image pair[2];
                     for (std::uint32_t stream = 1; stream <= 2 && !outcome.cancelled; ++stream) {

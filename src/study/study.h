@@ -30,6 +30,7 @@ struct StudyConfig {
     /// first bounce's random numbers (TraceSettings::firstBounceStream); half their squared difference,
     /// averaged, is the part of the pixel variance that comes from the first-bounce directions. 0: none.
     int budgetPairs = 0;
+    bool jointFirstBounce = false;        ///< every render with TraceSettings::jointFirstBounce (the joint 4D pattern)
     int repeats = 4;
     int width = 128, height = 128;
     int maxDepth = 16;

@@ -60,6 +60,9 @@ def test_malformed_shared_scenes(sym, cli, shared_scenes):
     (dict(sampler="halton"), "sampler: unknown sampler 'halton'"),
     (dict(symmetric_mode="sideways"), "symmetric_mode:"),
     (dict(symmetric_n=0), "symmetric_n = 0 must lie in [1, 4096]"),
+    (dict(symmetric_orbit=3), "symmetric_orbit: 3 is not one of 1, 2, 4, 8"),
+    (dict(split=0), "split = 0 must lie in [1, 64]"),
+    (dict(first_bounce_stream=-1), "first_bounce_stream = -1 must lie in [0, 1000000]"),
 ])
 def test_bad_render_arguments_are_value_errors(sym, kwargs, message):
     with pytest.raises(ValueError) as e:

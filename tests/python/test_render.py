@@ -33,14 +33,20 @@ def test_stats(sym):
     ("phong", "sobol", []),
     ("symmetric", "sobol", ["--symmetric-mode", "spread", "--symmetric-n", "2"]),
     ("cosine", "independent", ["--no-nee", "--max-depth", "3"]),
+    ("symmetric-mix", "sobol", ["--symmetric-mode", "spread", "--symmetric-orbit", "8", "--split", "2"]),
+    ("phong", "sobol", ["--joint-first-bounce", "--first-bounce-stream", "3"]),
 ])
 def test_bit_identical_to_cli_exr(sym, cli, tmp_path, estimator, sampler, extra):
     out = tmp_path / "cli.exr"
     cli("render", "cornell", "-e", estimator, "--sampler", sampler, "--spp", 5, "-W", 37, "-H", 23, "--seed", 11, "-o", out, *extra)
     ref = sym.read_image(str(out))
     kwargs = dict(estimator=estimator, sampler=sampler, spp=5, width=37, height=23, seed=11)
-    if "--symmetric-mode" in extra:
+    if "--symmetric-n" in extra:
         kwargs.update(symmetric_mode="spread", symmetric_n=2)
+    if "--symmetric-orbit" in extra:
+        kwargs.update(symmetric_mode="spread", symmetric_orbit=8, split=2)
+    if "--joint-first-bounce" in extra:
+        kwargs.update(joint_first_bounce=True, first_bounce_stream=3)
     if "--no-nee" in extra:
         kwargs.update(nee=False, max_depth=3)
     for threads in (1, 2, 0):
