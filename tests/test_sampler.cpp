@@ -513,6 +513,22 @@ TEST(Samplers, Value3DIsThePairAndItsJointThirdCoordinate) {
     }
 }
 
+// --joint-first-bounce reads the first hit through a JointPairView: its one pair is value2DJoint, every
+// other value (and the pixel keys) the sampler's own, bit for bit.
+TEST(Samplers, JointPairViewRedirectsOnlyItsPair) {
+    for (const auto& sampler : allSamplers(16, 8)) {
+        const JointPairView view(*sampler, kFarDim, 0);
+        EXPECT_EQ(view.pixelKey(7), sampler->pixelKey(7));
+        const std::uint64_t key = sampler->pixelKey(7);
+        for (std::uint32_t i = 0; i < 16; ++i) {
+            EXPECT_TRUE(sameBits(view.value2D(key, i, 16, kFarDim), sampler->value2DJoint(key, i, 16, kFarDim, 0))) << sampler->name();
+            EXPECT_TRUE(sameBits(view.value2D(key, i, 16, kFarDim + 2), sampler->value2D(key, i, 16, kFarDim + 2))) << sampler->name();
+            EXPECT_TRUE(sameBits(view.value2D(key, i, 16, 0), sampler->value2D(key, i, 16, 0))) << sampler->name();
+            EXPECT_TRUE(sameBits(view.value1D(key, i, 16, kFarDim), sampler->value1D(key, i, 16, kFarDim))) << sampler->name();
+        }
+    }
+}
+
 TEST(SobolSampler, OneDimensionsOfEveryPixelAreStratified) {
     for (std::uint64_t seed : {std::uint64_t{1}, std::uint64_t{0xDEADBEEFCAFEull}})
         for (int k = 0; k <= 10; ++k) {

@@ -179,22 +179,10 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
 
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
-    samples.setDimension(depth == 0 ? SampleDimensions::kFirstHitEstimator + settings_.firstBounceStream * SampleDimensions::kFirstHitStreamStride
-                                    : vertexDim + SampleDimensions::kEstimator);
-    if (depth == 0 && settings_.jointFirstBounce) samples.setJoint(samples.dimension(), SampleDimensions::kPixel);
-    if (depth == 0 && settings_.firstHitSplit > 1) {
-        // First-hit splitting: k calls on the camera sample's k sub-samples, each direction's weight / k.
-        const std::uint32_t k = static_cast<std::uint32_t>(settings_.firstHitSplit);
-        for (std::uint32_t j = 0; j < k; ++j) {
-            SampleStream sub = samples.split(j, k);
-            const std::size_t first = dirs.size();
-            estimator_.sample(sc, sub, dirs);
-            for (std::size_t i = first; i < dirs.size(); ++i) {
-                dirs[i].weight /= static_cast<double>(k);
-                dirs[i].misPdf *= static_cast<double>(k);
-            }
-        }
+    if (depth == 0) {
+        firstHitDirections(sc, samples, dirs);
     } else {
+        samples.setDimension(vertexDim + SampleDimensions::kEstimator);
         estimator_.sample(sc, samples, dirs);
     }
     const Vec3 origin = p + ng * epsilon_;
@@ -245,6 +233,35 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
         L += r.weight * shade(origin, bundle->dirs[i], hit, depth + 1, r.path, r.misPdf, r.next, pc) / r.survive;
     }
     return L;
+}
+
+// The first hit's directions: from the first-hit block of the sampler (another block for another
+// --first-bounce-stream), through a JointPairView for --joint-first-bounce, and k calls on the camera
+// sample's k sub-samples for --split k (each direction's weight / k, its set density x k).
+void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const {
+    const std::uint64_t dim = SampleDimensions::kFirstHitEstimator + settings_.firstBounceStream * SampleDimensions::kFirstHitStreamStride;
+    samples.setDimension(dim);
+    if (settings_.jointFirstBounce && settings_.firstHitSplit <= 1) {
+        const JointPairView joint(samples.sampler(), dim, SampleDimensions::kPixel);
+        SampleStream stream = samples.through(joint);
+        estimator_.sample(sc, stream, dirs);
+        return;
+    }
+    if (settings_.firstHitSplit <= 1) {
+        estimator_.sample(sc, samples, dirs);
+        return;
+    }
+    // The partner pair is matched to the camera samples, not to their sub-samples: no joint pair when split.
+    const std::uint32_t k = static_cast<std::uint32_t>(settings_.firstHitSplit);
+    for (std::uint32_t j = 0; j < k; ++j) {
+        SampleStream sub = samples.split(j, k);
+        const std::size_t first = dirs.size();
+        estimator_.sample(sc, sub, dirs);
+        for (std::size_t i = first; i < dirs.size(); ++i) {
+            dirs[i].weight /= static_cast<double>(k);
+            dirs[i].misPdf *= static_cast<double>(k);
+        }
+    }
 }
 
 double PathTracer::estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const {

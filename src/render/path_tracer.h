@@ -141,6 +141,8 @@ private:
     /// The estimator's misPdf at this vertex, times the first hit's split count k at depth 0 (k calls:
     /// the density of the whole set of directions, as MIS needs it).
     double estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const;
+    /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
+    void firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const;
     Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
     /// A direction from the environment map's importance sampling (picked with probability `pick`),
     /// weighted against the estimator by the power heuristic.

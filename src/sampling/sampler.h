@@ -109,6 +109,33 @@ public:
     Vec3 value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
 };
 
+/// Another sampler seen with one pair made joint: its pair (dim, dim+1) reads value2DJoint(dim, partner),
+/// every other value is the sampler's own (the same seed, so the same pixel keys). The path tracer reads
+/// the first hit's estimator through it for --joint-first-bounce, so that SampleStream::get2D stays a
+/// plain call on the hot path.
+class JointPairView final : public Sampler {
+public:
+    JointPairView(const Sampler& inner, std::uint64_t dim, std::uint64_t partner)
+        : Sampler(inner.samplesPerPixel(), inner.seed()), inner_(inner), dim_(dim), partner_(partner) {}
+    std::string_view name() const override { return inner_.name(); }
+    double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override {
+        return inner_.value1D(key, index, count, dim);
+    }
+    Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override {
+        return dim == dim_ ? inner_.value2DJoint(key, index, count, dim, partner_) : inner_.value2D(key, index, count, dim);
+    }
+    Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const override {
+        return inner_.value2DJoint(key, index, count, dim, partner);
+    }
+    Vec3 value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override {
+        return inner_.value3D(key, index, count, dim);
+    }
+
+private:
+    const Sampler& inner_;
+    std::uint64_t dim_, partner_;
+};
+
 /// Names accepted by makeSampler, in the order --help lists them.
 const std::vector<std::string>& samplerNames();
 /// One line per sampler for --help.
@@ -131,23 +158,23 @@ public:
     /// stratifies them jointly), and each sub-sample's values are as uniform as a camera sample's.
     SampleStream split(std::uint32_t j, std::uint32_t k) const {
         SampleStream s = *this;
-        s.jointDim_ = kNoJoint;  // a partner pair is matched to the camera samples, not to sub-samples
         s.index_ = index_ * k + j;
         s.count_ = count_ * k;
         return s;
     }
 
     void setDimension(std::uint64_t dim) { dim_ = dim; }
-    /// The pair read by get2D() at dimension `dim` becomes the second half of a 4D pattern with the pair
-    /// at `partner` (Sampler::value2DJoint); other reads are unchanged.
-    void setJoint(std::uint64_t dim, std::uint64_t partner) {
-        jointDim_ = dim;
-        jointPartner_ = partner;
+    /// The same sample of the same pixel read through another sampler (e.g. a JointPairView of this one).
+    SampleStream through(const Sampler& sampler) const {
+        SampleStream s = *this;
+        s.sampler_ = &sampler;
+        return s;
     }
+    const Sampler& sampler() const { return *sampler_; }
     std::uint64_t dimension() const { return dim_; }
     double get1D() { return sampler_->value1D(key_, index_, count_, dim_++); }
     Point2 get2D() {
-        const Point2 p = dim_ == jointDim_ ? sampler_->value2DJoint(key_, index_, count_, dim_, jointPartner_) : sampler_->value2D(key_, index_, count_, dim_);
+        const Point2 p = sampler_->value2D(key_, index_, count_, dim_);
         dim_ += 2;
         return p;
     }
@@ -205,8 +232,6 @@ private:
     std::uint32_t index_;
     std::uint32_t count_;  ///< samples of the pattern: the pixel's spp, or spp x k for a split stream
     std::uint64_t dim_;
-    static constexpr std::uint64_t kNoJoint = ~0ull;
-    std::uint64_t jointDim_ = kNoJoint, jointPartner_ = 0;
 };
 
 }  // namespace symphong
