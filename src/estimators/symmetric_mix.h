@@ -5,8 +5,9 @@
 // What changes:
 //  1. the diffuse pieces are drawn in proportion to their projected solid angle (triangle Phi_T,
 //     quadrangle Phi_Q in each octant), so the diffuse family is exactly cosine sampling;
-//  2. diffuse against lobe is chosen in proportion to the albedos, as `phong` does, folded into the
-//     sampler's first coordinate so that it is stratified over a pixel's samples;
+//  2. diffuse against lobe is chosen in proportion to the albedos, as `phong` does, from a family offset
+//     that is the third coordinate of the orbit's point (Sampler::value3D), so that it is stratified over
+//     a pixel's samples jointly with the directions;
 //  3. the lobe pieces are the 8 azimuth wedges of the exact Phong lobe (they cover all of it), not the
 //     cube face's triangles.
 // One direction then has the mixture density q = P_d cos/pi + (1 - P_d) (n+1)/(2 pi) cos^n(alpha) (the
