@@ -7,17 +7,12 @@
 
 namespace symphong {
 
-namespace {
-
-/// Appends wi with weight f cos / pdf (one direction per call, so K = 1), skipping zero-weight ones.
 void pushWeighted(const ShadingContext& ctx, const Vec3& wi, double pdf, DirectionList& out) {
     if (wi.z <= 0 || pdf <= 0) return;
     const Color f = evalPhong(*ctx.material, ctx.wo, wi);
     if (isBlack(f)) return;
     out.push_back({wi, f * (wi.z / pdf), pdf});
 }
-
-}  // namespace
 
 void UniformEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const Vec3 wi = sampleUniformHemisphere(samples.get2D());

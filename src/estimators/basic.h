@@ -7,6 +7,10 @@
 
 namespace symphong {
 
+/// Appends wi with weight f cos / pdf and misPdf pdf, pdf the density of the call's direction set at wi
+/// (K p for K directions); skips directions below the surface, without density, or with f = 0.
+void pushWeighted(const ShadingContext& ctx, const Vec3& wi, double pdf, DirectionList& out);
+
 /// Uniform hemisphere sampling, p = 1/(2 pi).
 class UniformEstimator final : public Estimator {
 public:

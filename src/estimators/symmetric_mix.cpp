@@ -81,12 +81,10 @@ double SymmetricMixEstimator::directionDensity(const ShadingContext& ctx, const 
 }
 
 void SymmetricMixEstimator::push(const ShadingContext& ctx, const Vec3& wi, double copies, DirectionList& out) const {
-    if (wi.z <= 0) return;  // a lobe direction below the surface carries no light
-    const Color f = evalPhong(*ctx.material, ctx.wo, wi);
-    if (isBlack(f)) return;
+    if (wi.z <= 0) return;  // a lobe direction below the surface carries no light (before its density is computed)
     const double d = copies * directionDensity(ctx, wi);
     if (!(d > 0)) return;
-    out.push_back({wi, f * (wi.z / d), d});
+    pushWeighted(ctx, wi, d, out);
 }
 
 void SymmetricMixEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
