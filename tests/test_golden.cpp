@@ -34,6 +34,8 @@ struct GoldenCase {
     std::string name, args;
 };
 
+void PrintTo(const GoldenCase& c, std::ostream* os) { *os << "render" << c.args; }
+
 std::vector<GoldenCase> readCases() {
     std::ifstream in(fs::path(SYMPHONG_SOURCE_DIR) / "tests/golden/cases.txt");
     std::vector<GoldenCase> cases;
