@@ -60,4 +60,9 @@ double PhongLobeEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) con
     return wi.z > 0 ? directionPdf(ctx, wi) : 0.0;
 }
 
+std::unique_ptr<Estimator> makeUniformEstimator(const EstimatorOptions&) { return std::make_unique<UniformEstimator>(); }
+std::unique_ptr<Estimator> makeCosineEstimator(const EstimatorOptions&) { return std::make_unique<CosineEstimator>(); }
+std::unique_ptr<Estimator> makeStratifiedEstimator(const EstimatorOptions&) { return std::make_unique<CosineEstimator>(true); }
+std::unique_ptr<Estimator> makePhongLobeEstimator(const EstimatorOptions&) { return std::make_unique<PhongLobeEstimator>(); }
+
 }  // namespace symphong

@@ -11,6 +11,12 @@ namespace symphong {
 /// (K p for K directions); skips directions below the surface, without density, or with f = 0.
 void pushWeighted(const ShadingContext& ctx, const Vec3& wi, double pdf, DirectionList& out);
 
+/// Factories of the table in estimators/registry.cpp (none reads an option).
+std::unique_ptr<Estimator> makeUniformEstimator(const EstimatorOptions&);
+std::unique_ptr<Estimator> makeCosineEstimator(const EstimatorOptions&);
+std::unique_ptr<Estimator> makeStratifiedEstimator(const EstimatorOptions&);
+std::unique_ptr<Estimator> makePhongLobeEstimator(const EstimatorOptions&);
+
 /// Uniform hemisphere sampling, p = 1/(2 pi).
 class UniformEstimator final : public Estimator {
 public:

@@ -1,7 +1,10 @@
 #include "estimators/symmetric.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace symphong {
 
@@ -218,6 +221,24 @@ double SymmetricEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) con
     const int pieces = ctx.material->hasSpecular() ? 24 : 16;
     const double scale = ctx.branch && mode_ == SymmetricMode::Branch ? static_cast<double>(nPrime_) : 1.0 / pieces;
     return scale * setDensity(ctx, lobe, wi);
+}
+
+namespace {
+int checkedSymmetricN(const EstimatorOptions& options) {
+    if (options.symmetricN < 1 || options.symmetricN > 4096)
+        throw std::invalid_argument(fmt::format("--symmetric-n {} is out of range (1..4096)", options.symmetricN));
+    return options.symmetricN;
+}
+}  // namespace
+
+std::unique_ptr<Estimator> makePaperEstimator(const EstimatorOptions& o) {
+    return std::make_unique<PaperEstimator>(checkedSymmetricN(o), o.paperRefined, o.symmetricMode);
+}
+std::unique_ptr<Estimator> makeSymmetricEstimator(const EstimatorOptions& o) {
+    return std::make_unique<SymmetricEstimator>(checkedSymmetricN(o), false, o.symmetricMode);
+}
+std::unique_ptr<Estimator> makeSymmetricShiftedEstimator(const EstimatorOptions& o) {
+    return std::make_unique<SymmetricEstimator>(checkedSymmetricN(o), true, o.symmetricMode);
 }
 
 }  // namespace symphong

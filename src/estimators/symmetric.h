@@ -8,6 +8,12 @@
 
 namespace symphong {
 
+/// Factories of the table in estimators/registry.cpp: they read N' (--symmetric-n, 1..4096), the mode
+/// and, for `paper`, the refined normalisation.
+std::unique_ptr<Estimator> makePaperEstimator(const EstimatorOptions& options);
+std::unique_ptr<Estimator> makeSymmetricEstimator(const EstimatorOptions& options);
+std::unique_ptr<Estimator> makeSymmetricShiftedEstimator(const EstimatorOptions& options);
+
 /// `paper`: Eq. (4) + Eq. (7) = Eq. (8), formula for formula. The paper's rho_d is our rho_d / pi and its
 /// rho_s our rho_s (n+2)/(2 pi), so a render differs from ours by the estimator alone. N'+1 points
 /// (u_j,v_j), j = 0..N', feed Eq. (4)'s sum as printed; j = 1..N' feed Eq. (7). Each point gives 8 triangle

@@ -2,7 +2,10 @@
 
 #include "estimators/basic.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <stdexcept>
 
 namespace symphong {
 
@@ -117,6 +120,12 @@ double SymmetricMixEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) 
     if (wi.z <= 0) return 0.0;
     const double copies = ctx.branch && mode_ == SymmetricMode::Branch ? static_cast<double>(orbit_) : 1.0;
     return copies * directionDensity(ctx, wi);
+}
+
+std::unique_ptr<Estimator> makeSymmetricMixEstimator(const EstimatorOptions& o) {
+    if (o.symmetricOrbit != 1 && o.symmetricOrbit != 2 && o.symmetricOrbit != 4 && o.symmetricOrbit != 8)
+        throw std::invalid_argument(fmt::format("--symmetric-orbit {} is not one of 1, 2, 4, 8", o.symmetricOrbit));
+    return std::make_unique<SymmetricMixEstimator>(o.symmetricMode, o.symmetricOrbit);
 }
 
 }  // namespace symphong

@@ -22,6 +22,10 @@
 
 namespace symphong {
 
+/// Factory of the table in estimators/registry.cpp: reads the mode and the orbit (--symmetric-orbit: 1,
+/// 2, 4 or 8).
+std::unique_ptr<Estimator> makeSymmetricMixEstimator(const EstimatorOptions& options);
+
 class SymmetricMixEstimator final : public Estimator {
 public:
     /// orbit: R, the number of symmetric copies of one point used together (1, 2, 4 or 8).

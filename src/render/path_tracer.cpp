@@ -1,7 +1,6 @@
 #include "render/path_tracer.h"
 
 #include "math/frame.h"
-#include "sampling/warp.h"
 #include "scene/surface.h"
 
 #include <algorithm>
@@ -35,72 +34,15 @@ double powerHeuristic(double a, double b) {
 
 }  // namespace
 
-EmitterSampler::EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withHittable) : slot_(scene.triangles.size(), -1) {
-    std::vector<double> power;
-    for (std::size_t i = 0; i < scene.triangles.size() && withHittable; ++i) {
-        const PhongMaterial& m = scene.materials[scene.triangles[i].material];
-        const double p = areas[i] * luminance(m.emission);
-        if (m.isEmissive() && p > 0) {
-            slot_[i] = static_cast<std::int32_t>(entries_.size());
-            entries_.push_back(static_cast<std::uint32_t>(i));
-            power.push_back(p);
-        }
-    }
-    lightBase_ = entries_.size();
-    Vec3 lo, hi;
-    scene.bounds(lo, hi);
-    const double radius = 0.5 * length(hi - lo);
-    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& l = scene.lights[i];
-        const double y = luminance(l.intensity);
-        double p = 0;
-        switch (l.type) {
-            case Light::Type::Point: p = 4 * kPi * y; break;
-            case Light::Type::Spot: p = 2 * kPi * y * (1 - 0.5 * (l.cosInner + l.cosOuter)); break;
-            case Light::Type::Directional: p = kPi * radius * radius * y; break;
-        }
-        if (p > 0) {
-            entries_.push_back(static_cast<std::uint32_t>(i));
-            power.push_back(p);
-        }
-    }
-    if (withHittable && scene.environmentMap) {
-        const double p = kPi * radius * radius * scene.environmentMap->luminanceIntegral();
-        if (p > 0) {
-            environmentSlot_ = static_cast<std::int64_t>(entries_.size());
-            entries_.push_back(0);
-            power.push_back(p);
-        }
-    }
-    distribution_ = Distribution1D(power);
-}
-
-double EmitterSampler::pickProbability(std::uint32_t prim) const {
-    const std::int32_t s = slot_[prim];
-    return s < 0 ? 0.0 : distribution_.pmf(static_cast<std::size_t>(s));
-}
-
-double EmitterSampler::environmentProbability() const {
-    return environmentSlot_ < 0 ? 0.0 : distribution_.pmf(static_cast<std::size_t>(environmentSlot_));
-}
-
-std::uint32_t EmitterSampler::pick(double u, double& probability, double& uRemapped, Kind& kind) const {
-    const std::size_t i = distribution_.sample(u);
-    probability = distribution_.pmf(i);
-    uRemapped = std::clamp((u - distribution_.cdf(i)) / probability, 0.0, kOneBelow);
-    kind = static_cast<std::int64_t>(i) == environmentSlot_ ? Kind::Environment : (i >= lightBase_ ? Kind::Light : Kind::Triangle);
-    return entries_[i];
-}
-
 PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings)
     : scene_(scene),
       accel_(accel),
       estimator_(estimator),
       settings_(settings),
       areas_(triangleAreas(scene, geometricNormals_)),
-      emitters_(scene, areas_, settings.nextEvent && estimator.combinesWithLightSampling()),
-      triangleSampling_(emitters_.hasTriangles()),
-      environmentSampling_(emitters_.hasEnvironment()),
+      emitters_(scene, areas_, geometricNormals_, settings.nextEvent && estimator.combinesWithLightSampling()),
+      triangleSampling_(emitters_.samplesTriangles()),
+      environmentSampling_(emitters_.samplesBackground()),
       lightSampling_(!emitters_.empty()) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
@@ -149,10 +91,9 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     if (mat.isEmissive() && frontFace) {
         double w = 1.0;
         if (depth > 0 && triangleSampling_) {
-            const double dist2 = hit.t * hit.t * dot(d, d);
-            const double cosL = -dot(ng, d) / length(d);
-            const double lightPdf = emitters_.pickProbability(hit.prim) / areas_[hit.prim] * dist2 / cosL;
-            w = powerHeuristic(prevMisPdf, lightPdf);
+            // Light sampling's density of this direction (0 for a triangle it does not sample).
+            const Emitter* e = emitters_.triangle(hit.prim);
+            w = powerHeuristic(prevMisPdf, e ? e->pdfOfHit(d, hit.t, emitters_.triangleProbability(hit.prim)) : 0.0);
         }
         L += (textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission) * w;
     }
@@ -174,7 +115,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
     if (lightSampling_) {
         samples.setDimension(vertexDim + SampleDimensions::kLight);
-        L += sampleEmitter(p, ng, frame, sc, samples.get2D(), pc.stats);
+        L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats);
     }
 
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
@@ -269,96 +210,36 @@ double PathTracer::estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) con
     return sc.depth == 0 && settings_.firstHitSplit > 1 ? p * settings_.firstHitSplit : p;
 }
 
-// Next-event estimation: one point on one emitter, weighted against the estimator by the power heuristic.
-Color PathTracer::sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
-                                TraceStats& stats) const {
-    double pick = 0, uPoint = 0;
-    EmitterSampler::Kind kind;
-    const std::uint32_t prim = emitters_.pick(u.u, pick, uPoint, kind);
-    if (kind == EmitterSampler::Kind::Light) return sampleLight(scene_.lights[prim], p, ng, frame, sc, pick, stats);
-    if (kind == EmitterSampler::Kind::Environment) return sampleEnvironment(p, ng, frame, sc, {uPoint, u.v}, pick, stats);
-    const Point2 b = sampleUniformTriangle({uPoint, u.v});
-    const Triangle& t = scene_.triangles[prim];
-    const Vec3 q = scene_.positions[t.v[0]] * b.u + scene_.positions[t.v[1]] * b.v +
-                   scene_.positions[t.v[2]] * (1.0 - b.u - b.v);
-    const Vec3 toLight = q - p;
-    const double dist2 = dot(toLight, toLight);
-    if (dist2 <= 0) return Color(0.0);
-    const Vec3 wi = toLight / std::sqrt(dist2);
-    const double cosL = -dot(geometricNormals_[prim], wi);
-    if (cosL <= 0 || dot(wi, ng) <= 0) return Color(0.0);
-    const Vec3 wiLocal = frame.toLocal(wi);
-    const Color f = evalPhong(*sc.material, sc.wo, wiLocal);
-    if (isBlack(f)) return Color(0.0);
-    const double lightPdf = pick / areas_[prim] * dist2 / cosL;
-    const Vec3 origin = p + ng * epsilon_;
-    ++stats.rays;
-    if (accel_.occluded(origin, q - origin, 0.0, 1.0 - 1e-5)) return Color(0.0);
-    const double w = powerHeuristic(lightPdf, estimatorMisPdf(sc, wiLocal));
-    const PhongMaterial& emitter = scene_.materials[t.material];
-    // q = b.u v0 + b.v v1 + (1 - b.u - b.v) v2: barycentrics (b.v, 1 - b.u - b.v) of vertices 1 and 2.
-    Color Le = emitter.emission;
-    if (textured_[t.material]) {
-        const TexCoord uv = texcoordAt(scene_, t, b.v, 1.0 - b.u - b.v);
-        if (cutOutAt(scene_, emitter, uv)) return Color(0.0);  // a hole: no path can hit it either
-        Le = emissionAt(scene_, emitter, uv);
-    }
-    return f * Le * (wiLocal.z * w / lightPdf);
-}
-
-Color PathTracer::sampleEnvironment(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, double pick,
-                                    TraceStats& stats) const {
-    const EnvironmentMap& env = *scene_.environmentMap;
-    double pdf = 0;
-    const Vec3 wi = env.sample(u, pdf);
-    if (!(pdf > 0) || dot(wi, ng) <= 0) return Color(0.0);
-    const Vec3 wiLocal = frame.toLocal(wi);
+// Next-event estimation, the same for every emitter: one chosen in proportion to its power, a direction
+// towards it, the shadow ray, and f cos / p weighted against the estimator by the power heuristic (a
+// delta emitter: f E cos / pick, no MIS, since no path can hit it).
+Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
+                              TraceStats& stats) const {
+    double pick = 0, uRemapped = 0;
+    const Emitter& emitter = emitters_.pick(u.u, pick, uRemapped);
+    EmitterSample s;
+    if (!emitter.sample(p, {uRemapped, u.v}, pick, s) || dot(s.wi, ng) <= 0) return Color(0.0);
+    const Vec3 wiLocal = frame.toLocal(s.wi);
     if (wiLocal.z <= 0) return Color(0.0);
     const Color f = evalPhong(*sc.material, sc.wo, wiLocal);
     if (isBlack(f)) return Color(0.0);
+    const Vec3 origin = p + ng * epsilon_;
     ++stats.rays;
-    if (accel_.occluded(p + ng * epsilon_, wi, 0.0, std::numeric_limits<double>::infinity())) return Color(0.0);
-    const double lightPdf = pick * pdf;
-    const double w = powerHeuristic(lightPdf, estimatorMisPdf(sc, wiLocal));
-    return f * env.radiance(wi) * (wiLocal.z * w / lightPdf);
+    const bool blocked = s.toInfinity ? accel_.occluded(origin, s.wi, 0.0, std::numeric_limits<double>::infinity())
+                                      : accel_.occluded(origin, s.target - origin, 0.0, 1.0 - 1e-5);
+    if (blocked) return Color(0.0);
+    if (emitter.isDelta()) return f * s.radiance * (wiLocal.z / s.pdf);
+    const double w = powerHeuristic(s.pdf, estimatorMisPdf(sc, wiLocal));
+    return f * s.radiance * (wiLocal.z * w / s.pdf);
 }
 
 Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {
     const Vec3 dir = normalize(d);
+    const Emitter& background = emitters_.background();
     double w = 1.0;
-    if (depth > 0 && environmentSampling_) w = powerHeuristic(prevMisPdf, emitters_.environmentProbability() * scene_.environmentMap->pdf(dir));
-    return scene_.environmentRadiance(dir) * w;
-}
-
-// A point, spot or directional light: the one direction it arrives from, no MIS (no path can hit it).
-// Point and spot: L_r = f I cos(theta) / d^2 (times the spot's falloff); directional: L_r = f E cos(theta).
-Color PathTracer::sampleLight(const Light& light, const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, double pick,
-                              TraceStats& stats) const {
-    const bool directional = light.type == Light::Type::Directional;
-    Vec3 wi;
-    Color incident;
-    if (directional) {
-        wi = -light.direction;
-        incident = light.intensity;
-    } else {
-        const Vec3 toLight = light.position - p;
-        const double dist2 = dot(toLight, toLight);
-        if (!(dist2 > 0)) return Color(0.0);
-        wi = toLight / std::sqrt(dist2);
-        incident = light.intensity / dist2;
-        if (light.type == Light::Type::Spot) incident *= spotFalloff(dot(-wi, light.direction), light.cosInner, light.cosOuter);
-    }
-    if (isBlack(incident) || dot(wi, ng) <= 0) return Color(0.0);
-    const Vec3 wiLocal = frame.toLocal(wi);
-    if (wiLocal.z <= 0) return Color(0.0);
-    const Color f = evalPhong(*sc.material, sc.wo, wiLocal);
-    if (isBlack(f)) return Color(0.0);
-    const Vec3 origin = p + ng * epsilon_;
-    ++stats.rays;
-    const bool blocked = directional ? accel_.occluded(origin, wi, 0.0, std::numeric_limits<double>::infinity())
-                                     : accel_.occluded(origin, light.position - origin, 0.0, 1.0 - 1e-5);
-    if (blocked) return Color(0.0);
-    return f * incident * (wiLocal.z / pick);
+    if (depth > 0 && environmentSampling_)
+        w = powerHeuristic(prevMisPdf, background.pdfOfHit(dir, std::numeric_limits<double>::infinity(), emitters_.backgroundProbability()));
+    return background.backgroundRadiance(dir) * w;
 }
 
 }  // namespace symphong

@@ -1,13 +1,13 @@
-// render/ — turning a scene into an image. Owns emitter sampling for next-event estimation, the path
-// tracer (NEE + multiple importance sampling with whatever estimator was chosen, Russian roulette), the
-// camera model, and the parallel, reproducible tile loop. It asks accel/ for ray queries and estimators/
-// for directions, and never looks inside either.
+// render/ — turning a scene into an image. Owns the path tracer (next-event estimation + multiple
+// importance sampling with whatever estimator was chosen, Russian roulette), the camera model, and the
+// parallel, reproducible tile loop. It asks accel/ for ray queries, estimators/ for directions and
+// lights/ for emitters (one direct-lighting routine for every kind), and never looks inside any of them.
 #pragma once
 
 #include "accel/accel.h"
 #include "estimators/estimator.h"
 #include "math/frame.h"
-#include "sampling/distribution1d.h"
+#include "lights/emitters.h"
 #include "scene/scene.h"
 #include "util/cache_line.h"
 
@@ -38,38 +38,6 @@ struct TraceSettings {
 struct TraceStats {
     std::uint64_t rays = 0;        ///< closest-hit and shadow queries
     std::uint64_t badSamples = 0;  ///< non-finite path contributions, discarded (counted, never written)
-};
-
-/// Light sampling: emissive triangles (a uniform point on one), point, spot and directional lights, and
-/// an environment map, one of them chosen in proportion to its power (area x Y(Le) for a triangle; 4 pi
-/// Y(I) for a point light, its cone's share of that for a spot, pi r^2 Y(E) over the scene's bounding
-/// sphere for a directional light, pi r^2 x integral Y(L) dw for the environment map). The triangles and
-/// the environment map are left out when the path tracer does not sample them (no NEE, or an estimator
-/// without a density); the lights never are, since no path can hit them.
-class EmitterSampler {
-public:
-    enum class Kind { Triangle, Light, Environment };
-    /// withHittable: whether the emitters a path can also hit (triangles, the environment map) are sampled.
-    EmitterSampler(const Scene& scene, const std::vector<double>& areas, bool withHittable);
-    bool empty() const { return entries_.empty(); }
-    bool hasTriangles() const { return lightBase_ > 0; }
-    bool hasEnvironment() const { return environmentSlot_ >= 0; }
-    /// Probability of picking triangle `prim` (0 if it does not emit or triangles are left out).
-    double pickProbability(std::uint32_t prim) const;
-    /// Probability of picking the environment map (0 when it is not sampled).
-    double environmentProbability() const;
-    /// Picks an emitter from u in [0,1): a triangle (its index in Scene::triangles), a light (its index in
-    /// Scene::lights) or the environment map, as `kind` says; its probability; and u rescaled to [0,1)
-    /// inside the chosen one's share (so one 2D value can choose a triangle and, with its rescaled u, the
-    /// point on it).
-    std::uint32_t pick(double u, double& probability, double& uRemapped, Kind& kind) const;
-
-private:
-    std::vector<std::uint32_t> entries_;  ///< triangles first (indices into Scene::triangles), then lights, then the environment
-    std::size_t lightBase_ = 0;           ///< entries_[i] is a light index from here on
-    std::int64_t environmentSlot_ = -1;   ///< the environment map's entry, or -1
-    std::vector<std::int32_t> slot_;      ///< triangle -> index in entries_, or -1
-    Distribution1D distribution_;
 };
 
 /// Where each random decision of a camera sample reads the sampler: dimension numbers, fixed for a
@@ -143,17 +111,13 @@ private:
     double estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
     void firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const;
-    Color sampleEmitter(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
-    /// A direction from the environment map's importance sampling (picked with probability `pick`),
-    /// weighted against the estimator by the power heuristic.
-    Color sampleEnvironment(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, double pick,
-                            TraceStats& stats) const;
-    /// Radiance of a ray that left the scene along d: the environment map (MIS-weighted against its light
-    /// sampling from the previous vertex), the default sky or the constant environment.
+    /// Next-event estimation: one emitter chosen in proportion to its power, one direction towards it
+    /// (the same for every kind of emitter), its shadow ray, and the power heuristic against the
+    /// estimator's density (none for a delta emitter, which no path can hit).
+    Color directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
+    /// Radiance of a ray that left the scene along d: the background (MIS-weighted against its light
+    /// sampling from the previous vertex when it is light-sampled).
     Color escaped(const Vec3& d, int depth, double prevMisPdf) const;
-    /// One point, spot or directional light's direct contribution (picked with probability `pick`).
-    Color sampleLight(const Light& light, const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, double pick,
-                      TraceStats& stats) const;
 
     const Scene& scene_;
     const Accel& accel_;
@@ -162,10 +126,10 @@ private:
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
     std::vector<std::uint8_t> textured_;  ///< per material: whether it has any texture (one byte to test on the hot path)
     std::vector<double> areas_;
-    EmitterSampler emitters_;
+    SceneEmitters emitters_;
     bool triangleSampling_;  ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
     bool environmentSampling_;  ///< NEE + MIS of the environment map, on the same terms as the triangles
-    bool lightSampling_;     ///< NEE at all: triangles or environment as above, or lights (always sampled)
+    bool lightSampling_;     ///< NEE at all: triangles or environment as above, or delta lights (always sampled)
     double epsilon_ = 1e-4;  ///< ray offset, relative to the scene's size
 };
 

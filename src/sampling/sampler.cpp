@@ -98,22 +98,4 @@ std::uint32_t SampleStream::patternEntry(std::uint32_t entries) {
     return permuteAny(index_ % entries, entries, key);
 }
 
-const std::vector<std::string>& samplerNames() {
-    static const std::vector<std::string> names = {"independent", "stratified", "sobol"};
-    return names;
-}
-
-std::string samplerHelp() {
-    return "independent - independent uniform numbers (PCG32 streams)\n"
-           "stratified  - jittered strata (correlated multi-jittered) in every dimension pair, any spp\n"
-           "sobol       - Owen-scrambled Sobol' (0,2)-sequence in every dimension pair (the default)";
-}
-
-std::unique_ptr<Sampler> makeSampler(std::string_view name, std::uint32_t samplesPerPixel, std::uint64_t seed) {
-    if (name == "independent") return std::make_unique<IndependentSampler>(samplesPerPixel, seed);
-    if (name == "stratified") return std::make_unique<StratifiedSampler>(samplesPerPixel, seed);
-    if (name == "sobol") return std::make_unique<SobolSampler>(samplesPerPixel, seed);
-    throw std::invalid_argument(fmt::format("unknown sampler '{}' (valid: {})", name, fmt::join(samplerNames(), ", ")));
-}
-
 }  // namespace symphong

@@ -1,0 +1,38 @@
+// cli/commands.h — the commands of `symphong`, one file each (render_command.cpp, info_command.cpp,
+// furnace_command.cpp, study_command.cpp): each adds its subcommand to the application, with its options
+// built from its settings schema (cli/schema_cli.h), and runs it. cli.cpp parses and dispatches;
+// interrupts.h handles Ctrl-C and the MPI launcher's signals.
+#pragma once
+
+#include "render/settings.h"
+#include "study/config.h"
+
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <string>
+
+namespace symphong {
+
+class Estimator;
+class MpiJob;
+
+/// The exit code of bad input (every InputError).
+inline constexpr int kBadInput = 2;
+
+/// makeEstimator, its std::invalid_argument as an InputError "--estimator: ...".
+std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const EstimatorOptions& options);
+
+void addRenderCommand(CLI::App& app, RenderOptions& o);
+int runRender(const RenderOptions& o, const MpiJob& job);
+
+void addInfoCommand(CLI::App& app, std::string& scene);
+int runInfo(const std::string& spec);
+
+void addFurnaceCommand(CLI::App& app, FurnaceOptions& o);
+int runFurnaceCommand(const FurnaceOptions& o);
+
+void addStudyCommand(CLI::App& app, StudyOptions& o);
+int runStudyCommand(StudyOptions& o, const MpiJob& job);
+
+}  // namespace symphong

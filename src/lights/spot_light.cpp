@@ -1,0 +1,46 @@
+// A spot light: a point light of intensity I shining into a cone around its axis, full within the inner
+// half-angle, none beyond the outer one, smoothstep between (spotFalloff, scene/light.h): E = I x
+// falloff / d^2. Power: the cone's share of 4 pi Y(I), 2 pi Y(I) (1 - (cos inner + cos outer) / 2).
+#include "lights/kinds.h"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace symphong {
+
+namespace {
+
+class SpotEmitter final : public Emitter {
+public:
+    explicit SpotEmitter(const Light& light) : light_(light) {}
+    const char* kind() const override { return "spot"; }
+    bool isDelta() const override { return true; }
+    double power(double) const override { return 2 * kPi * luminance(light_.intensity) * (1 - 0.5 * (light_.cosInner + light_.cosOuter)); }
+    bool sample(const Vec3& p, Point2, double pick, EmitterSample& s) const override {
+        const Vec3 toLight = light_.position - p;
+        const double dist2 = dot(toLight, toLight);
+        if (!(dist2 > 0)) return false;
+        s.wi = toLight / std::sqrt(dist2);
+        s.radiance = light_.intensity / dist2;
+        s.radiance *= spotFalloff(dot(-s.wi, light_.direction), light_.cosInner, light_.cosOuter);
+        s.pdf = pick;
+        s.target = light_.position;
+        s.toInfinity = false;
+        return !isBlack(s.radiance);
+    }
+    double pdfOfHit(const Vec3&, double, double) const override { return 0.0; }
+    std::string describe() const override {
+        return fmt::format("position {}, direction {}, intensity {}, cone {:.4g} to {:.4g} degrees", formatTriple(light_.position),
+                           formatTriple(light_.direction), formatTriple(light_.intensity), std::acos(light_.cosInner) * 180 / kPi,
+                           std::acos(light_.cosOuter) * 180 / kPi);
+    }
+
+private:
+    Light light_;
+};
+
+}  // namespace
+
+std::unique_ptr<Emitter> makeSpotEmitter(const Light& light) { return std::make_unique<SpotEmitter>(light); }
+
+}  // namespace symphong

@@ -1,0 +1,96 @@
+// render(): keyword arguments through renderSchema() (render/settings.h), the same checks as the command
+// line (checkRenderOptions), the render with the GIL released, the image and its statistics.
+#include "estimators/estimator.h"
+#include "io/input_error.h"
+#include "python/common.h"
+#include "python/schema_py.h"
+#include "render/progress.h"
+#include "render/renderer.h"
+#include "render/settings.h"
+
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+namespace symphong {
+
+namespace {
+
+/// Keyword arguments that are the module's own, not render settings: taken out of `kwargs`.
+py::object takeKeyword(py::dict& kwargs, const char* key, py::object fallback) {
+    if (!kwargs.contains(key)) return fallback;
+    py::object v = kwargs[key];
+    PyDict_DelItemString(kwargs.ptr(), key);
+    return v;
+}
+
+py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
+    py::dict kwargs = py::dict(given);  // a copy: the module's own keywords are taken out of it
+    const bool variance = takeKeyword(kwargs, "variance", py::bool_(false)).cast<bool>();
+    const py::object progressArg = takeKeyword(kwargs, "progress", py::none());
+    RenderOptions o;
+    pyschema::applyKwargs(o, renderSchema(), kwargs, "render");
+    checkRenderOptions(o);
+    std::unique_ptr<Estimator> estimator;
+    try {
+        estimator = makeEstimator(o.estimator, o.estimatorOptions);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(fmt::format("estimator: {}", e.what()));
+    }
+    const RenderSettings s = renderSettings(o);
+    const std::shared_ptr<PyScene> scene = sceneArgument(sceneArg);
+    const bool showProgress = progressArg.is_none() ? stderrIsTerminal() : progressArg.cast<bool>();
+
+    const RenderResult r = runInterruptible([&](const std::atomic<bool>& cancel) {
+        RenderSettings settings = s;
+        settings.cancel = &cancel;
+        std::atomic<std::uint64_t> done{0};
+        ProgressBar bar(done, static_cast<std::uint64_t>(s.width) * s.height * s.spp, "samples", showProgress);
+        RenderResult result = render(scene->scene(), scene->accel(), *estimator, settings, &done);
+        bar.finish();
+        return result;
+    });
+    const double secs = std::max(r.stats.seconds, 1e-9);
+    py::dict stats;
+    stats["seconds"] = r.stats.seconds;
+    stats["rays"] = r.stats.rays;
+    stats["samples"] = r.stats.samples;
+    stats["bad_samples"] = r.stats.badSamples;
+    stats["mrays_per_second"] = r.stats.rays / secs / 1e6;
+    stats["samples_per_second"] = r.stats.samples / secs;
+    stats["estimator"] = estimator->name();
+    stats["sampler"] = r.sampler;
+    stats["spp"] = s.spp;
+    stats["width"] = s.width;
+    stats["height"] = s.height;
+    stats["seed"] = s.seed;
+    if (variance) return py::make_tuple(toArray(r.image), stats, toArray(r.variance));
+    return py::make_tuple(toArray(r.image), stats);
+}
+
+std::string renderDoc() {
+    return "render(scene, " + pyschema::signature(renderSchema()) +
+           ", variance=False, progress=None)\n\n"
+           "Renders `scene` (a Scene, or a spec string for load_scene) with the path tracer.\n\n"
+           "Returns (image, stats), or (image, stats, variance) with variance=True:\n"
+           "  image     float32 array (height, width, 3): linear radiance, row 0 at the top; bit for bit the EXR\n"
+           "            that `symphong render` writes with the same settings.\n"
+           "  stats     dict: seconds, rays, samples, bad_samples, mrays_per_second, samples_per_second,\n"
+           "            estimator, sampler (the one used: an estimator may require its own), spp, width, height, seed.\n"
+           "  variance  float32 array (height, width, 3): per-pixel variance of the mean (sample variance / spp).\n\n"
+           "progress: draw a progress bar on stderr (default: when stderr is a terminal).\n"
+           "The GIL is released while rendering; Ctrl-C raises KeyboardInterrupt after the tiles in flight.\n\n"
+           "Keyword arguments (those of `symphong render`, with the same defaults and checks; threads=0 uses every\n"
+           "core, and the image does not depend on it):\n" +
+           pyschema::keywordHelp(renderSchema()) + "\nEstimators:\n" + estimatorHelp() + "\n\nSamplers:\n" + samplerHelp() + "\n";
+}
+
+}  // namespace
+
+void registerRender(py::module_& m) {
+    static const std::string doc = renderDoc();
+    m.def("render", &renderPy, doc.c_str(), py::arg("scene"));
+    m.def("estimators", [] { return estimatorNames(); }, "The estimator names, as render(estimator=...) and furnace take them.");
+    m.def("samplers", [] { return samplerNames(); }, "The sampler names, as render(sampler=...) takes them.");
+}
+
+}  // namespace symphong

@@ -1,0 +1,95 @@
+#include "render/settings.h"
+
+#include "estimators/options.h"
+#include "io/input_error.h"
+#include "sampling/sampler_registry.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace symphong {
+
+void checkSamplerName(const std::string& name) {
+    if (!findSampler(name))
+        throw std::invalid_argument(fmt::format("unknown sampler '{}' (valid: {})", name, fmt::join(samplerNames(), ", ")));
+}
+
+const schema::Schema<RenderOptions>& renderSchema() {
+    using F = schema::Field<RenderOptions>;
+    using schema::member;
+    static const schema::Schema<RenderOptions> fields = [] {
+        schema::Schema<RenderOptions> s;
+        s.push_back(F("scene", "scene", "cornell, FILE.obj, FILE.gltf/.glb/.ply/.fbx/.dae/.3ds or FILE.json", member(&RenderOptions::scene))
+                        .only(schema::kCli | schema::kJson));
+        s.push_back(F("estimator", "--estimator,-e", "reflected-radiance estimator: " + fmt::format("{}", fmt::join(estimatorNames(), ", ")),
+                      member(&RenderOptions::estimator)));
+        s.push_back(F("sampler", "--sampler", "sample generator: " + fmt::format("{}", fmt::join(samplerNames(), ", ")),
+                      member(&RenderOptions::sampler))
+                        .namedFrom(samplerNames)
+                        .checkedBy(checkSamplerName));
+        s.push_back(F("spp", "--spp,-s", "camera samples per pixel", member(&RenderOptions::spp)).range(1, 1000000));
+        s.push_back(F("width", "--width,-W", "image width in pixels", member(&RenderOptions::width)).range(1, 16384));
+        s.push_back(F("height", "--height,-H", "image height in pixels", member(&RenderOptions::height)).range(1, 16384));
+        s.push_back(F("max_depth", "--max-depth,-d", "most scattering events per path (0: emitters only)", member(&RenderOptions::maxDepth))
+                        .range(0, 1024));
+        s.push_back(F("seed", "--seed", "random seed", member(&RenderOptions::seed)));
+        s.push_back(F("threads", "--threads,-t", "worker threads, 0 = all cores", member(&RenderOptions::threads)).range(0, 4096));
+        s.push_back(F("output", "--output,-o", "output image, .png or .exr (default: out/<scene-name>.png)", member(&RenderOptions::output))
+                        .only(schema::kCli)
+                        .noDefaultShown());
+        s.push_back(F("exposure", "--exposure", "linear scale applied before PNG clamping", member(&RenderOptions::exposure))
+                        .mustBePositive()
+                        .only(schema::kCli | schema::kJson));
+        s.push_back(F("exr_half", "--exr-half", "write EXR as 16-bit half instead of 32-bit float", member(&RenderOptions::exrHalf))
+                        .only(schema::kCli | schema::kJson));
+        s.push_back(F("split", "--split",
+                      "first-hit splitting: trace K directions per camera sample from its first hit (K calls of the estimator on "
+                      "sub-samples of the pixel's pattern, each weighted 1/K)",
+                      member(&RenderOptions::split))
+                        .range(1, 64));
+        s.push_back(F("first_bounce_stream", "--first-bounce-stream",
+                      "give the first hit's estimator other random numbers (stream S), every other decision of the path keeping its "
+                      "own: renders that differ only in S measure the first bounce's share of the variance (docs/estimators.md)",
+                      member(&RenderOptions::firstBounceStream))
+                        .range(0, 1000000));
+        s.push_back(F("joint_first_bounce", "--joint-first-bounce",
+                      "sobol: the pixel position and the first bounce's direction from one 4D Owen-scrambled Sobol' pattern instead of "
+                      "two independently matched pairs (off by default: it lowers MSE for cosine but not for every estimator, "
+                      "docs/sampling.md)",
+                      member(&RenderOptions::jointFirstBounce)));
+        s.push_back(F("no_nee", "--no-nee",
+                      "no light sampling of emissive triangles: they are found only by the estimator's directions (point, spot and "
+                      "directional lights are still sampled: nothing else can reach them)",
+                      member(&RenderOptions::noNee))
+                        .python("nee", true));
+        for (auto& f : schema::nested(estimatorOptionsSchema(), &RenderOptions::estimatorOptions)) s.push_back(std::move(f));
+        return s;
+    }();
+    return fields;
+}
+
+void checkRenderOptions(const RenderOptions& o) {
+    if (static_cast<long>(o.width) * o.height > kMaxImagePixels)
+        throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
+    requireImageMemory(o.width, o.height);
+    if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
+}
+
+RenderSettings renderSettings(const RenderOptions& o) {
+    RenderSettings settings;
+    settings.width = o.width;
+    settings.height = o.height;
+    settings.spp = o.spp;
+    settings.seed = o.seed;
+    settings.sampler = o.sampler;
+    settings.threads = o.threads;
+    settings.trace.maxDepth = o.maxDepth;
+    settings.trace.nextEvent = !o.noNee;
+    settings.trace.firstHitSplit = o.split;
+    settings.trace.firstBounceStream = o.firstBounceStream;
+    settings.trace.jointFirstBounce = o.jointFirstBounce;
+    return settings;
+}
+
+}  // namespace symphong

@@ -1,0 +1,49 @@
+// render/settings.h — what a render is asked for (RenderOptions), as `symphong render` and the Python
+// module's render() take it, described once by its schema: each field's name, flag, default (the member
+// initialisers below), range and help. The command line builds its options from renderSchema(), the
+// Python module its keyword arguments and docstring; checkRenderOptions() holds the checks that span
+// fields, and renderSettings() turns the options into the renderer's settings.
+#pragma once
+
+#include "estimators/estimator.h"
+#include "render/renderer.h"
+#include "util/schema.h"
+
+#include <cstdint>
+#include <string>
+
+namespace symphong {
+
+struct RenderOptions {
+    std::string scene = "cornell";
+    std::string estimator = "phong";
+    std::string sampler = std::string(kDefaultSampler);
+    std::uint32_t spp = 64;
+    int width = 512, height = 512;
+    int maxDepth = 16;
+    std::uint64_t seed = 1;
+    int threads = 0;
+    std::string output;
+    double exposure = 1.0;
+    bool exrHalf = false;
+    bool noNee = false;
+    int split = 1;
+    std::uint32_t firstBounceStream = 0;
+    bool jointFirstBounce = false;
+    EstimatorOptions estimatorOptions;
+};
+
+/// Every field of RenderOptions, in the order `symphong render --help` lists them.
+const schema::Schema<RenderOptions>& renderSchema();
+
+/// Checks that span fields or need the machine: the image's size (at most kMaxImagePixels, and its
+/// memory) and a finite exposure. Throws InputError.
+void checkRenderOptions(const RenderOptions& o);
+
+/// The renderer's settings for these options.
+RenderSettings renderSettings(const RenderOptions& o);
+
+/// Throws std::invalid_argument "unknown sampler 'x' (valid: ...)" unless `name` is a sampler.
+void checkSamplerName(const std::string& name);
+
+}  // namespace symphong

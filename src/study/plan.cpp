@@ -1,0 +1,107 @@
+// The study's plan: its configuration checked, its variants, and the key its cached reference must match.
+#include "estimators/registry.h"
+#include "io/files.h"
+#include "io/input_error.h"
+#include "sampling/sampler_registry.h"
+#include "study/study_parts.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace symphong {
+
+namespace {
+
+std::string sceneFingerprint(const std::string& spec) {
+    if (spec == "cornell" || !fs::exists(spec)) return spec;
+    const std::string text = readTextFile(spec);
+    return fmt::format("{}:{:016x}", spec, std::hash<std::string>{}(text));
+}
+
+}  // namespace
+
+std::vector<StudyVariant> studyVariants(const StudyConfig& c) {
+    std::vector<StudyVariant> out;
+    for (const std::string& e : c.estimators) {
+        const auto probe = makeEstimator(e, c.options);
+        const bool set = hasSymmetricModes(e);
+        std::vector<int> splits{1};
+        if (std::find(c.splitEstimators.begin(), c.splitEstimators.end(), e) != c.splitEstimators.end())
+            for (int k : c.splits)
+                if (k > 1) splits.push_back(k);
+        for (SymmetricMode mode : set ? c.modes : std::vector<SymmetricMode>{SymmetricMode::Branch})
+            for (int split : splits) {
+                // A branch-mode set already traces many directions from its first hit: not split further.
+                EstimatorOptions o = c.options;
+                o.symmetricMode = mode;
+                if (split > 1 && makeEstimator(e, o)->returnsSets()) continue;
+                for (const std::string& sampler : c.samplers) {
+                    StudyVariant v;
+                    v.estimator = e;
+                    v.mode = mode;
+                    v.split = split;
+                    v.sampler = effectiveSampler(*probe, sampler);
+                    v.label = e + (set && mode == SymmetricMode::Spread ? "+spread" : "") + (split > 1 ? fmt::format("+split{}", split) : "");
+                    if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
+                    if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; })) out.push_back(v);
+                }
+            }
+    }
+    return out;
+}
+
+/// Checks a study's configuration and puts its sample counts in order; returns the heat maps' spp.
+std::uint32_t checkConfig(StudyConfig& c) {
+    if (c.estimators.empty()) throw InputError("--estimators: the list is empty");
+    for (const auto& e : c.estimators) try {
+            makeEstimator(e, c.options);
+        } catch (const std::invalid_argument& err) {
+            throw InputError(fmt::format("--estimators: {}", err.what()));
+        }
+    try {
+        makeEstimator(c.referenceEstimator, c.options);
+    } catch (const std::invalid_argument& err) {
+        throw InputError(fmt::format("--reference-estimator: {}", err.what()));
+    }
+    if (!estimatorEntry(c.referenceEstimator).traits.hasDensity)
+        throw InputError(fmt::format("--reference-estimator: '{}' is biased; choose an unbiased estimator", c.referenceEstimator));
+    if (c.samplers.empty()) throw InputError("--samplers: the list is empty");
+    for (const auto& name : c.samplers)
+        if (std::find(samplerNames().begin(), samplerNames().end(), name) == samplerNames().end())
+            throw InputError(fmt::format("--samplers: unknown sampler '{}' (valid: {})", name, fmt::join(samplerNames(), ", ")));
+    if (c.modes.empty()) throw InputError("--symmetric-modes: the list is empty");
+    if (c.spps.empty()) throw InputError("--spp: the list is empty");
+    for (auto s : c.spps)
+        if (s == 0) throw InputError("--spp: sample counts must be at least 1");
+    std::sort(c.spps.begin(), c.spps.end());
+    c.spps.erase(std::unique(c.spps.begin(), c.spps.end()), c.spps.end());
+    if (c.repeats < 1) throw InputError(fmt::format("--repeats {} must be at least 1", c.repeats));
+    for (int k : c.splits)
+        if (k < 1 || k > 64) throw InputError(fmt::format("--splits: {} is out of range (1..64)", k));
+    for (const auto& e : c.splitEstimators)
+        if (std::find(estimatorNames().begin(), estimatorNames().end(), e) == estimatorNames().end())
+            throw InputError(fmt::format("--split-estimators: unknown estimator '{}' (valid: {})", e, fmt::join(estimatorNames(), ", ")));
+    if (c.budgetPairs < 0 || c.budgetPairs > 64) throw InputError(fmt::format("--budget-pairs {} is out of range (0..64)", c.budgetPairs));
+    const std::uint32_t heatSpp = c.heatmapSpp ? c.heatmapSpp : c.spps[c.spps.size() / 2];
+    if (std::find(c.spps.begin(), c.spps.end(), heatSpp) == c.spps.end())
+        throw InputError(fmt::format("--heatmap-spp {} is not one of the --spp values", heatSpp));
+    return heatSpp;
+}
+
+nlohmann::json referenceKey(const StudyConfig& c) {
+    return {{"scene", sceneFingerprint(c.scene)}, {"width", c.width}, {"height", c.height}, {"spp", c.referenceSpp},
+            {"estimator", c.referenceEstimator}, {"sampler", c.referenceSampler}, {"max_depth", c.maxDepth}, {"seed", c.seed},
+            {"symmetric_n", c.options.symmetricN}, {"version", 1}};
+}
+
+EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v) {
+    EstimatorOptions o = c.options;
+    o.symmetricMode = v.mode;
+    return o;
+}
+
+}  // namespace symphong

@@ -1,0 +1,63 @@
+// The study's reference: given (--reference), read from the cache in the output directory when its key
+// matches, or made from a render and cached.
+#include "io/files.h"
+#include "io/input_error.h"
+#include "study/study_parts.h"
+
+#include <fmt/format.h>
+
+namespace fs = std::filesystem;
+
+namespace symphong {
+
+Reference existingReference(const StudyConfig& c, const fs::path& dir, const nlohmann::json& key) {
+    Reference ref;
+    const fs::path exr = dir / "reference.exr", json = dir / "reference.json";
+    if (!c.referencePath.empty()) {
+        ref.image = readExr(c.referencePath);
+        if (ref.image.width != c.width || ref.image.height != c.height)
+            throw InputError(fmt::format("--reference {}: {}x{} does not match the study's {}x{}", c.referencePath, ref.image.width,
+                                         ref.image.height, c.width, c.height));
+        ref.mean = meanLuminance(ref.image);
+        ref.note = fmt::format("Reference: `{}` (given; its own noise is unknown and taken as zero).", c.referencePath);
+        ref.have = true;
+    } else if (fs::exists(exr) && fs::exists(json)) {
+        try {
+            const auto cached = nlohmann::json::parse(readTextFile(json.string()));
+            if (cached.value("key", nlohmann::json()) == key) {
+                ref.image = readExr(exr.string());
+                ref.mean = {cached.at("mean_luminance").get<double>(), cached.at("mean_std_error").get<double>()};
+                ref.noise = cached.at("pixel_variance").get<double>();
+                ref.have = ref.image.width == c.width && ref.image.height == c.height;
+                ref.note = fmt::format("Reference: `{}` at {} spp, cached in reference.exr.", c.referenceEstimator, c.referenceSpp);
+            }
+        } catch (const std::exception&) {
+            ref = Reference{};  // a damaged cache is re-rendered
+        }
+    }
+    return ref;
+}
+
+Reference referenceFromRender(const StudyConfig& c, const RenderResult& r) {
+    Reference ref;
+    ref.image = r.image;
+    for (Color& p : ref.image.pixels)
+        for (int ch = 0; ch < 3; ++ch) p[ch] = static_cast<float>(p[ch]);
+    ref.mean = meanLuminance(ref.image, &r.variance);
+    for (const Color& v : r.variance.pixels) ref.noise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
+    ref.note = fmt::format("Reference: `{}` at {} spp ({:.1f} s), cached in reference.exr.", c.referenceEstimator, c.referenceSpp,
+                           r.stats.seconds);
+    ref.have = true;
+    return ref;
+}
+
+void writeReferenceCache(const Reference& ref, const nlohmann::json& key, double seconds, const fs::path& dir) {
+    writeExr(ref.image, (dir / "reference.exr").string(), false);
+    writeFile((dir / "reference.json").string(),
+              nlohmann::json{{"key", key}, {"mean_luminance", ref.mean.mean}, {"mean_std_error", ref.mean.stdError},
+                             {"pixel_variance", ref.noise}, {"seconds", seconds}}
+                      .dump(2) +
+                  "\n");
+}
+
+}  // namespace symphong

@@ -1,0 +1,103 @@
+// study/study_parts.h — the pieces of `symphong study`, shared among its files and not part of its
+// interface (study.h): the plan (plan.cpp: checks, variants, the reference's cache key), the reference
+// (reference.cpp), the measurement of a render against it (measure.cpp), the summary and conclusion
+// (summary.cpp), and the report and plots (report.cpp); study.cpp runs them in order.
+#pragma once
+
+#include "io/image.h"
+#include "study/metrics.h"
+#include "study/study.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace symphong {
+
+// ---- plan.cpp
+
+/// Checks a study's configuration and puts its sample counts in order; returns the heat maps' spp.
+std::uint32_t checkConfig(StudyConfig& c);
+/// What the cached reference must match: scene (its file's content hash), size, spp, estimator, sampler,
+/// depth, seed.
+nlohmann::json referenceKey(const StudyConfig& c);
+/// The estimator options of a variant (its mode).
+EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v);
+
+// ---- reference.cpp
+
+/// The study's reference image with what is known of it.
+struct Reference {
+    Image image;
+    MeanWithError mean;
+    double noise = 0;  ///< mean over pixels of its variance-of-mean (luminance); 0 when unknown
+    std::string note;  ///< the report's sentence on where it came from
+    bool have = false;  ///< false: it must be rendered
+};
+
+/// The given reference (--reference), or the one cached in `dir` for the same settings (`key`);
+/// `have` false when there is none (a damaged cache counts as none).
+Reference existingReference(const StudyConfig& c, const std::filesystem::path& dir, const nlohmann::json& key);
+
+/// The reference from a render of it: its image rounded to 32-bit float as the cache stores it (so a
+/// study gives the same numbers whether its reference was rendered or read back), mean and noise.
+Reference referenceFromRender(const StudyConfig& c, const RenderResult& r);
+
+/// Writes reference.exr and reference.json (the cache) into dir.
+void writeReferenceCache(const Reference& ref, const nlohmann::json& key, double seconds, const std::filesystem::path& dir);
+
+// ---- measure.cpp
+
+/// One row: the render r of `variant` at spp, repeat `rep`, measured against the reference.
+StudyRow measureRow(const StudyConfig& c, const std::string& sceneName, const StudyVariant& variant, std::uint32_t spp, int rep,
+                    const RenderResult& r, const Reference& ref);
+
+/// Fills the group columns of rows (one group: a variant at one spp, its repeats' images and means).
+void fillGroupColumns(std::vector<StudyRow>& rows, std::size_t firstRow, const std::vector<Image>& images,
+                      const std::vector<MeanWithError>& means, const Reference& ref, double firstBounceVariance);
+
+// ---- summary.cpp
+
+nlohmann::json rowJson(const StudyRow& r);
+nlohmann::json summaryJson(const StudySummary& s);
+/// The summary of `estimator` (branch mode) under the same sampler as `like`, at the same spp.
+const StudySummary* sameSampler(const std::vector<StudySummary>& s, const std::string& estimator, const StudySummary& like);
+/// "2.3x", "15x".
+std::string factor(double x);
+/// Whether a variant is significantly biased at some spp.
+bool biasedAnywhere(const std::vector<StudySummary>& s, const std::string& variant);
+
+// ---- report.cpp
+
+struct Crop {
+    int x, y, w, h;
+};
+
+/// What report.md is made of.
+struct ReportInputs {
+    const StudyConfig& config;
+    std::string sceneName;
+    const std::vector<StudySummary>& summary;
+    std::string conclusion;
+    const Reference& reference;
+    bool plotted = false;
+    std::uint32_t heatSpp = 0;
+    bool cancelled = false;
+    int processes = 1;
+};
+
+std::string reportMarkdown(const ReportInputs& in);
+
+/// Runs the embedded plotting script on dir with a python3 that has matplotlib; false (with a warning)
+/// when there is none or the script fails.
+bool makePlots(const StudyConfig& c, const std::filesystem::path& dir);
+
+// ---- study.cpp
+
+/// The observer of setStudyRowObserver (empty by default).
+std::function<void(std::size_t)>& rowObserver();
+
+}  // namespace symphong
