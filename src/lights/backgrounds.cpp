@@ -20,7 +20,7 @@ public:
         s.wi = map_.sample(u, pdf);
         if (!(pdf > 0)) return false;
         s.pdf = pick * pdf;
-        s.radiance = map_.radiance(s.wi);
+        s.radianceLater = true;
         s.toInfinity = true;
         return true;
     }

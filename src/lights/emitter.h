@@ -30,6 +30,9 @@ struct EmitterSample {
     /// infinity when `toInfinity`.
     Vec3 target;
     bool toInfinity = false;
+    /// The radiance is the emitter's backgroundRadiance(wi), looked up only once the shadow ray is clear
+    /// (an environment map: no texture lookup for occluded or back-facing directions); `radiance` unset.
+    bool radianceLater = false;
 };
 
 class Emitter {

@@ -230,7 +230,7 @@ Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame,
     if (blocked) return Color(0.0);
     if (emitter.isDelta()) return f * s.radiance * (wiLocal.z / s.pdf);
     const double w = powerHeuristic(s.pdf, estimatorMisPdf(sc, wiLocal));
-    return f * s.radiance * (wiLocal.z * w / s.pdf);
+    return f * (s.radianceLater ? emitter.backgroundRadiance(s.wi) : s.radiance) * (wiLocal.z * w / s.pdf);
 }
 
 Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {

@@ -1,0 +1,155 @@
+// Settings described once (util/schema.h; render/settings, study/config, estimators/options): the
+// schemas' defaults against the renderer's and the study's own defaults (a second source), JSON written
+// and read back, its errors naming the key, the command-line options built from a schema parsing and
+// checking as CLI11 does, and a study's settings in results.json giving its configuration back.
+#include "cli/schema_cli.h"
+#include "estimators/options.h"
+#include "render/settings.h"
+#include "study/config.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+using namespace symphong;
+
+namespace {
+
+template <class S>
+void expectUniqueNames(const schema::Schema<S>& fields) {
+    std::set<std::string> keys, pyKeys, flags;
+    for (const auto& f : fields) {
+        EXPECT_TRUE(keys.insert(f.key).second) << f.key;
+        EXPECT_FALSE(f.help.empty()) << f.key;
+        if (f.in(schema::kPython)) {
+            EXPECT_TRUE(pyKeys.insert(f.pyKey()).second) << f.pyKey();
+        }
+        if (!f.in(schema::kCli)) continue;
+        for (std::size_t start = 0; start < f.flags.size();) {
+            const std::size_t comma = f.flags.find(',', start);
+            EXPECT_TRUE(flags.insert(f.flags.substr(start, comma - start)).second) << f.flags;
+            start = comma == std::string::npos ? f.flags.size() : comma + 1;
+        }
+    }
+}
+
+}  // namespace
+
+TEST(Schema, NamesAreUniqueAndEveryFieldIsExplained) {
+    expectUniqueNames(renderSchema());
+    expectUniqueNames(studySchema());
+    expectUniqueNames(furnaceSchema());
+    expectUniqueNames(estimatorOptionsSchema());
+}
+
+TEST(Schema, RenderDefaultsAreTheRenderersOwn) {
+    const RenderSettings fromSchema = renderSettings(RenderOptions{});
+    const RenderSettings renderer;  // the renderer's own defaults
+    EXPECT_EQ(fromSchema.width, renderer.width);
+    EXPECT_EQ(fromSchema.height, renderer.height);
+    EXPECT_EQ(fromSchema.spp, renderer.spp);
+    EXPECT_EQ(fromSchema.seed, renderer.seed);
+    EXPECT_EQ(fromSchema.sampler, renderer.sampler);
+    EXPECT_EQ(fromSchema.threads, renderer.threads);
+    EXPECT_EQ(fromSchema.trace.maxDepth, renderer.trace.maxDepth);
+    EXPECT_EQ(fromSchema.trace.nextEvent, renderer.trace.nextEvent);
+    EXPECT_EQ(fromSchema.trace.firstHitSplit, renderer.trace.firstHitSplit);
+    EXPECT_EQ(fromSchema.trace.firstBounceStream, renderer.trace.firstBounceStream);
+    EXPECT_EQ(fromSchema.trace.jointFirstBounce, renderer.trace.jointFirstBounce);
+    const StudyConfig study = toStudyConfig(StudyOptions{}, true);
+    const StudyConfig own;
+    EXPECT_EQ(study.estimators, own.estimators);
+    EXPECT_EQ(study.samplers, own.samplers);
+    EXPECT_EQ(study.spps, own.spps);
+    EXPECT_EQ(study.splitEstimators, own.splitEstimators);
+    EXPECT_EQ(study.plots, own.plots);
+    ASSERT_EQ(study.modes.size(), 1u);
+    EXPECT_EQ(study.modes[0], own.modes[0]);
+}
+
+TEST(Schema, JsonRoundTripAndErrorsNameTheKey) {
+    RenderOptions o;
+    o.spp = 17, o.width = 33, o.seed = 1ull << 60, o.sampler = "stratified", o.noNee = true;
+    o.estimatorOptions.symmetricMode = SymmetricMode::Spread, o.estimatorOptions.symmetricOrbit = 8;
+    const nlohmann::json j = schema::toJson(o, renderSchema());
+    EXPECT_EQ(j["spp"], 17);
+    EXPECT_EQ(j["symmetric_mode"], "spread");
+    EXPECT_EQ(j["seed"].get<std::uint64_t>(), 1ull << 60);
+    EXPECT_FALSE(j.contains("output")) << "the output path is the command line's, not a setting";
+    RenderOptions back;
+    schema::fromJson(j, back, renderSchema());
+    EXPECT_EQ(schema::toJson(back, renderSchema()), j);
+    const auto error = [](const nlohmann::json& bad) {
+        RenderOptions r;
+        try {
+            schema::fromJson(bad, r, renderSchema());
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_EQ(error({{"sp", 4}}), "unknown setting 'sp'");
+    EXPECT_EQ(error({{"spp", 0}}), "spp: out of range (got 0)");
+    EXPECT_EQ(error({{"spp", 2.5}}), "spp: expected a number (got 2.5)");
+    EXPECT_EQ(error({{"symmetric_orbit", 3}}), "symmetric_orbit: not allowed (got 3)");
+    EXPECT_EQ(error({{"symmetric_mode", "sideways"}}), "symmetric_mode: unknown symmetric mode 'sideways' (valid: branch, spread)");
+    EXPECT_EQ(error({{"sampler", "halton"}}).rfind("unknown sampler 'halton'", 0), 0u);
+    EXPECT_EQ(error({{"seed", -1}}), "seed: out of range (got -1)");
+}
+
+TEST(Schema, CommandLineOptionsParseAndCheckAsTheSchemaSays) {
+    CLI::App app;
+    RenderOptions o;
+    addSchemaOptions(&app, o, renderSchema());
+    std::vector<std::string> args{"--spp", "12", "-W", "7", "--no-nee", "--symmetric-mode", "spread", "--sampler", "independent", "scene.json"};
+    std::reverse(args.begin(), args.end());  // CLI11 takes a vector in reverse order
+    app.parse(args);
+    EXPECT_EQ(o.spp, 12u);
+    EXPECT_EQ(o.width, 7);
+    EXPECT_TRUE(o.noNee);
+    EXPECT_FALSE(renderSettings(o).trace.nextEvent);
+    EXPECT_EQ(o.estimatorOptions.symmetricMode, SymmetricMode::Spread);
+    EXPECT_EQ(o.sampler, "independent");
+    EXPECT_EQ(o.scene, "scene.json");
+    for (const std::vector<std::string>& bad : {std::vector<std::string>{"--spp", "0"}, {"--symmetric-orbit", "3"}, {"--sampler", "halton"},
+                                                {"--symmetric-mode", "x"}, {"--exposure", "-1"}}) {
+        CLI::App again;
+        RenderOptions r;
+        addSchemaOptions(&again, r, renderSchema());
+        std::vector<std::string> args(bad.rbegin(), bad.rend());
+        EXPECT_THROW(again.parse(args), CLI::ParseError) << bad[0];
+    }
+}
+
+TEST(Schema, AStudysSettingsInResultsJsonGiveItsConfigurationBack) {
+    StudyConfig c;
+    c.scene = "scenes/cornell-glossy-100.json";
+    c.estimators = {"phong", "symmetric-mix"};
+    c.samplers = {"sobol", "independent"};
+    c.modes = {SymmetricMode::Branch, SymmetricMode::Spread};
+    c.spps = {2, 8};
+    c.splits = {2};
+    c.budgetPairs = 3;
+    c.repeats = 5;
+    c.width = 40;
+    c.referenceSpp = 512;
+    c.options.symmetricOrbit = 4;
+    c.plots = false;
+    const nlohmann::json j = studySettingsJson(c);
+    StudyOptions o;
+    schema::fromJson(j, o, studySchema());
+    const StudyConfig back = toStudyConfig(o, true);
+    EXPECT_EQ(back.scene, c.scene);
+    EXPECT_EQ(back.estimators, c.estimators);
+    EXPECT_EQ(back.samplers, c.samplers);
+    EXPECT_EQ(back.modes, c.modes);
+    EXPECT_EQ(back.spps, c.spps);
+    EXPECT_EQ(back.splits, c.splits);
+    EXPECT_EQ(back.budgetPairs, c.budgetPairs);
+    EXPECT_EQ(back.repeats, c.repeats);
+    EXPECT_EQ(back.width, c.width);
+    EXPECT_EQ(back.referenceSpp, c.referenceSpp);
+    EXPECT_EQ(back.options.symmetricOrbit, 4);
+    EXPECT_FALSE(back.plots);
+}
