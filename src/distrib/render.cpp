@@ -83,6 +83,81 @@ std::uint64_t tileSamples(int tile, const RenderSettings& s) {
     return static_cast<std::uint64_t>(x1 - x0) * (y1 - y0) * s.spp;
 }
 
+/// Rank 0's dispatcher: answers the other ranks' requests for tiles until every one of them has been told
+/// that none are left, counting the samples of finished grants into `progress`.
+void dispatchTiles(const MpiJob& job, CounterSource& counter, const RenderSettings& settings, std::atomic<std::uint64_t>* progress) {
+    std::vector<std::uint64_t> pending(static_cast<std::size_t>(job.size()), 0);  // samples granted, not yet known done
+    int open = job.size() - 1;
+    while (open > 0) {
+        // Polled, not a blocking receive: Open MPI spins in a blocking call and would take a core from this
+        // rank's render threads. 0.5 ms between polls: against 10 ms or more of work per grant (at least
+        // two 16x16 tiles), a wait of at most 5%, and only at the end of a render.
+        int waiting = 0;
+        MPI_Status status;
+        MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, MPI_COMM_WORLD, &waiting, &status);
+        if (!waiting) {
+            std::this_thread::sleep_for(std::chrono::microseconds(500));
+            continue;
+        }
+        int want = 0;
+        MPI_Recv(&want, 1, MPI_INT, status.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD, &status);
+        const int from = status.MPI_SOURCE;
+        // A request means the rank finished what it was given before.
+        if (progress) progress->fetch_add(pending[static_cast<std::size_t>(from)], std::memory_order_relaxed);
+        pending[static_cast<std::size_t>(from)] = 0;
+        // Guided self-scheduling: a share of what is left (large grants early, one request per several
+        // hundred milliseconds), shrinking to what the rank asked for near the end, so that a slow rank
+        // holds no one back at the finish.
+        int grant[2];
+        counter.take(std::max({1, want, counter.remaining() / (2 * job.size())}), grant[0], grant[1]);
+        for (int t = grant[0]; t < grant[0] + grant[1]; ++t) pending[static_cast<std::size_t>(from)] += tileSamples(t, settings);
+        MPI_Send(grant, 2, MPI_INT, from, kTagGrant, MPI_COMM_WORLD);
+        if (grant[1] == 0) --open;
+    }
+}
+
+/// Another rank's tiles to rank 0: their numbers, then image and variance pixels as doubles.
+void sendTiles(const std::vector<int>& tiles, const RenderResult& result, const RenderSettings& settings) {
+    std::vector<double> pixels;
+    for (int tile : tiles) {
+        int x0, y0, x1, y1;
+        tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
+        for (const Image* img : {&result.image, &result.variance})
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x)
+                    for (int c = 0; c < 3; ++c) pixels.push_back(img->at(x, y)[c]);
+    }
+    MPI_Send(tiles.data(), static_cast<int>(tiles.size()), MPI_INT, 0, kTagTiles, MPI_COMM_WORLD);
+    MPI_Send(pixels.data(), static_cast<int>(pixels.size()), MPI_DOUBLE, 0, kTagPixels, MPI_COMM_WORLD);
+}
+
+/// On rank 0: every other rank's tiles into the result; the number of tiles each rendered.
+void gatherTiles(const MpiJob& job, RenderResult& result, const RenderSettings& settings, std::vector<int>& tilesPerRank) {
+    for (int r = 1; r < job.size(); ++r) {
+        MPI_Status status;
+        MPI_Probe(r, kTagTiles, MPI_COMM_WORLD, &status);
+        int n = 0;
+        MPI_Get_count(&status, MPI_INT, &n);
+        std::vector<int> tiles(static_cast<std::size_t>(n));
+        MPI_Recv(tiles.data(), n, MPI_INT, r, kTagTiles, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        MPI_Probe(r, kTagPixels, MPI_COMM_WORLD, &status);
+        int m = 0;
+        MPI_Get_count(&status, MPI_DOUBLE, &m);
+        std::vector<double> pixels(static_cast<std::size_t>(m));
+        MPI_Recv(pixels.data(), m, MPI_DOUBLE, r, kTagPixels, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        std::size_t k = 0;
+        for (int tile : tiles) {
+            int x0, y0, x1, y1;
+            tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
+            for (Image* img : {&result.image, &result.variance})
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x)
+                        for (int c = 0; c < 3; ++c) img->at(x, y)[c] = pixels[k++];
+        }
+        tilesPerRank[static_cast<std::size_t>(r)] = n;
+    }
+}
+
 }  // namespace
 
 RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
@@ -97,91 +172,23 @@ RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Acce
     // own would leave holes in an image that is not marked cancelled.
     if (!job.root()) local.cancel = nullptr;
     std::vector<int> tilesPerRank(static_cast<std::size_t>(job.size()), 0);
-
+    double gatherSeconds = 0;
     if (job.root()) {
         CounterSource counter(total, settings.cancel);
         local.tiles = &counter;
-        // The dispatcher: answers requests until every other rank has been told that no tiles are left.
-        std::thread dispatcher([&] {
-            std::vector<std::uint64_t> pending(static_cast<std::size_t>(job.size()), 0);  // samples granted, not yet known done
-            int open = job.size() - 1;
-            while (open > 0) {
-                // Polled, not a blocking receive: Open MPI spins in a blocking call and would take a core
-                // from this rank's render threads. 0.5 ms between polls: against 10 ms or more of work per
-                // grant (at least two 16x16 tiles), a wait of at most 5%, and only at the end of a render.
-                int waiting = 0;
-                MPI_Status status;
-                MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, MPI_COMM_WORLD, &waiting, &status);
-                if (!waiting) {
-                    std::this_thread::sleep_for(std::chrono::microseconds(500));
-                    continue;
-                }
-                int want = 0;
-                MPI_Recv(&want, 1, MPI_INT, status.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD, &status);
-                const int from = status.MPI_SOURCE;
-                // A request means the rank finished what it was given before.
-                if (progress) progress->fetch_add(pending[static_cast<std::size_t>(from)], std::memory_order_relaxed);
-                pending[static_cast<std::size_t>(from)] = 0;
-                // Guided self-scheduling: a share of what is left (large grants early, one request per
-                // several hundred milliseconds), shrinking to what the rank asked for near the end, so
-                // that a slow rank holds no one back at the finish.
-                int grant[2];
-                counter.take(std::max({1, want, counter.remaining() / (2 * job.size())}), grant[0], grant[1]);
-                for (int t = grant[0]; t < grant[0] + grant[1]; ++t) pending[static_cast<std::size_t>(from)] += tileSamples(t, settings);
-                MPI_Send(grant, 2, MPI_INT, from, kTagGrant, MPI_COMM_WORLD);
-                if (grant[1] == 0) --open;
-            }
-        });
+        std::thread dispatcher([&] { dispatchTiles(job, counter, settings, progress); });
         result = render(scene, accel, estimator, local, progress);
         dispatcher.join();
+        const auto gatherStart = std::chrono::steady_clock::now();
+        gatherTiles(job, result, settings, tilesPerRank);
+        gatherSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - gatherStart).count();
     } else {
         RemoteSource remote(threads);
         local.tiles = &remote;
         // Every worker loop ends on next() returning false, which only happens once rank 0 has said
         // that no tiles are left: the dispatcher has heard from this rank for the last time.
         result = render(scene, accel, estimator, local, nullptr);
-        // Send the rendered tiles: their numbers, then image and variance pixels as doubles.
-        const std::vector<int>& tiles = remote.rendered();
-        std::vector<double> pixels;
-        for (int tile : tiles) {
-            int x0, y0, x1, y1;
-            tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
-            for (const Image* img : {&result.image, &result.variance})
-                for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x)
-                        for (int c = 0; c < 3; ++c) pixels.push_back(img->at(x, y)[c]);
-        }
-        MPI_Send(tiles.data(), static_cast<int>(tiles.size()), MPI_INT, 0, kTagTiles, MPI_COMM_WORLD);
-        MPI_Send(pixels.data(), static_cast<int>(pixels.size()), MPI_DOUBLE, 0, kTagPixels, MPI_COMM_WORLD);
-    }
-
-    double gatherSeconds = 0;
-    if (job.root()) {
-        const auto gatherStart = std::chrono::steady_clock::now();
-        for (int r = 1; r < job.size(); ++r) {
-            MPI_Status status;
-            MPI_Probe(r, kTagTiles, MPI_COMM_WORLD, &status);
-            int n = 0;
-            MPI_Get_count(&status, MPI_INT, &n);
-            std::vector<int> tiles(static_cast<std::size_t>(n));
-            MPI_Recv(tiles.data(), n, MPI_INT, r, kTagTiles, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            MPI_Probe(r, kTagPixels, MPI_COMM_WORLD, &status);
-            int m = 0;
-            MPI_Get_count(&status, MPI_DOUBLE, &m);
-            std::vector<double> pixels(static_cast<std::size_t>(m));
-            MPI_Recv(pixels.data(), m, MPI_DOUBLE, r, kTagPixels, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            std::size_t k = 0;
-            for (int tile : tiles) {
-                int x0, y0, x1, y1;
-                tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
-                for (Image* img : {&result.image, &result.variance})
-                    for (int y = y0; y < y1; ++y)
-                        for (int x = x0; x < x1; ++x)
-                            for (int c = 0; c < 3; ++c) img->at(x, y)[c] = pixels[k++];
-            }
-            tilesPerRank[static_cast<std::size_t>(r)] = n;
-        }
-        gatherSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - gatherStart).count();
+        sendTiles(remote.rendered(), result, settings);
     }
 
     // The whole job's counts on rank 0; a cancelled rank 0 marks every rank's result cancelled.

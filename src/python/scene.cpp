@@ -38,56 +38,13 @@ std::shared_ptr<PyScene> sceneArgument(const py::object& scene) {
                                      py::str(py::type::of(scene).attr("__name__")).cast<std::string>()));
 }
 
-void registerScene(py::module_& m) {
-    py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene", R"(A loaded scene: triangles with Phong materials, emitters, a camera.
+namespace {
 
-Scene(spec) is load_scene(spec). The acceleration structure is built on the first render and kept.)")
-        .def(py::init(&loadPyScene), py::arg("spec"))
-        .def_property_readonly("name", [](const PyScene& s) { return s.scene().name; }, "the scene's name (output files are named after it)")
-        .def_property_readonly("spec", &PyScene::spec, "what it was loaded from: 'cornell' or the file's path")
-        .def_property_readonly("triangle_count", [](const PyScene& s) { return s.scene().triangles.size(); })
-        .def_property_readonly("vertex_count", [](const PyScene& s) { return s.scene().positions.size(); })
-        .def_property_readonly(
-            "materials",
-            [](const PyScene& s) {
-                py::list out;
-                for (const PhongMaterial& mat : s.scene().materials) {
-                    py::dict d;
-                    d["name"] = mat.name;
-                    d["rho_d"] = py::make_tuple(mat.rhoD.x, mat.rhoD.y, mat.rhoD.z);
-                    d["rho_s"] = py::make_tuple(mat.rhoS.x, mat.rhoS.y, mat.rhoS.z);
-                    d["n"] = mat.exponent;
-                    d["emission"] = py::make_tuple(mat.emission.x, mat.emission.y, mat.emission.z);
-                    out.append(d);
-                }
-                return out;
-            },
-            "list of dicts: name, rho_d, rho_s (RGB tuples), n (Phong exponent), emission (RGB radiance)")
-        .def_property_readonly(
-            "camera",
-            [](const PyScene& s) {
-                const Camera& c = s.scene().camera;
-                py::dict d;
-                d["position"] = py::make_tuple(c.position.x, c.position.y, c.position.z);
-                d["target"] = py::make_tuple(c.target.x, c.target.y, c.target.z);
-                d["up"] = py::make_tuple(c.up.x, c.up.y, c.up.z);
-                d["fov_y"] = c.fovY;
-                return d;
-            },
-            "dict: position, target, up (tuples), fov_y (vertical field of view, degrees)")
-        .def_property_readonly(
-            "bounds",
-            [](const PyScene& s) {
-                Vec3 lo, hi;
-                s.scene().bounds(lo, hi);
-                return py::make_tuple(py::make_tuple(lo.x, lo.y, lo.z), py::make_tuple(hi.x, hi.y, hi.z));
-            },
-            "((xmin, ymin, zmin), (xmax, ymax, zmax)): the axis-aligned bounding box")
-        .def_property_readonly("environment", [](const PyScene& s) {
-            const Color& e = s.scene().environment;
-            return py::make_tuple(e.x, e.y, e.z);
-        }, "RGB radiance arriving from directions that leave the scene")
-        .def(
+using PySceneClass = py::class_<PyScene, std::shared_ptr<PyScene>>;
+
+/// Scene.mesh() and Scene.primary_hits(): the geometry as arrays.
+void bindSceneArrays(PySceneClass& cls) {
+    cls        .def(
             "mesh",
             [](const PyScene& s) {
                 const Scene& sc = s.scene();
@@ -131,8 +88,12 @@ Scene(spec) is load_scene(spec). The acceleration structure is built on the firs
             },
             py::arg("width"), py::arg("height"),
             "(H, W) int64: the triangle that the camera ray through each pixel's centre hits first (-1: none), as render()\n"
-            "frames a width x height image. For masks of surfaces when comparing images region by region.")
-        .def_property_readonly(
+            "frames a width x height image. For masks of surfaces when comparing images region by region.");
+}
+
+/// Scene.lights, sky, environment_map, textures, has_emitter, warnings.
+void bindSceneEmitters(PySceneClass& cls) {
+    cls        .def_property_readonly(
             "lights",
             [](const PyScene& s) {
                 py::list out;
@@ -195,8 +156,63 @@ Scene(spec) is load_scene(spec). The acceleration structure is built on the firs
             },
             "list of dicts: file, width, height, channels, wrap (u, v): the textures the materials use")
         .def_property_readonly("has_emitter", [](const PyScene& s) { return s.scene().hasEmitter(); })
-        .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; }, "the loader's non-fatal notes")
-        .def("info", [](const PyScene& s) { return describeScene(s.scene(), s.spec()); },
+        .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; }, "the loader's non-fatal notes");
+}
+
+}  // namespace
+
+void registerScene(py::module_& m) {
+    auto cls =     py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene", R"(A loaded scene: triangles with Phong materials, emitters, a camera.
+
+Scene(spec) is load_scene(spec). The acceleration structure is built on the first render and kept.)")
+        .def(py::init(&loadPyScene), py::arg("spec"))
+        .def_property_readonly("name", [](const PyScene& s) { return s.scene().name; }, "the scene's name (output files are named after it)")
+        .def_property_readonly("spec", &PyScene::spec, "what it was loaded from: 'cornell' or the file's path")
+        .def_property_readonly("triangle_count", [](const PyScene& s) { return s.scene().triangles.size(); })
+        .def_property_readonly("vertex_count", [](const PyScene& s) { return s.scene().positions.size(); })
+        .def_property_readonly(
+            "materials",
+            [](const PyScene& s) {
+                py::list out;
+                for (const PhongMaterial& mat : s.scene().materials) {
+                    py::dict d;
+                    d["name"] = mat.name;
+                    d["rho_d"] = py::make_tuple(mat.rhoD.x, mat.rhoD.y, mat.rhoD.z);
+                    d["rho_s"] = py::make_tuple(mat.rhoS.x, mat.rhoS.y, mat.rhoS.z);
+                    d["n"] = mat.exponent;
+                    d["emission"] = py::make_tuple(mat.emission.x, mat.emission.y, mat.emission.z);
+                    out.append(d);
+                }
+                return out;
+            },
+            "list of dicts: name, rho_d, rho_s (RGB tuples), n (Phong exponent), emission (RGB radiance)")
+        .def_property_readonly(
+            "camera",
+            [](const PyScene& s) {
+                const Camera& c = s.scene().camera;
+                py::dict d;
+                d["position"] = py::make_tuple(c.position.x, c.position.y, c.position.z);
+                d["target"] = py::make_tuple(c.target.x, c.target.y, c.target.z);
+                d["up"] = py::make_tuple(c.up.x, c.up.y, c.up.z);
+                d["fov_y"] = c.fovY;
+                return d;
+            },
+            "dict: position, target, up (tuples), fov_y (vertical field of view, degrees)")
+        .def_property_readonly(
+            "bounds",
+            [](const PyScene& s) {
+                Vec3 lo, hi;
+                s.scene().bounds(lo, hi);
+                return py::make_tuple(py::make_tuple(lo.x, lo.y, lo.z), py::make_tuple(hi.x, hi.y, hi.z));
+            },
+            "((xmin, ymin, zmin), (xmax, ymax, zmax)): the axis-aligned bounding box")
+        .def_property_readonly("environment", [](const PyScene& s) {
+            const Color& e = s.scene().environment;
+            return py::make_tuple(e.x, e.y, e.z);
+        }, "RGB radiance arriving from directions that leave the scene");
+    bindSceneArrays(cls);
+    bindSceneEmitters(cls);
+    cls        .def("info", [](const PyScene& s) { return describeScene(s.scene(), s.spec()); },
              "The text `symphong info` prints for this scene: triangles, bounds, camera, materials, lights, environment,\n"
              "textures and warnings.")
         .def("__repr__", [](const PyScene& s) {

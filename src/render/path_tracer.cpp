@@ -72,6 +72,22 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_
     return shade(o, d, found ? &hit : nullptr, depth, path, prevMisPdf, throughput, pc);
 }
 
+// The MIS weight of emission that a path found after a vertex with density prevMisPdf: against light
+// sampling's density of the same direction (0 for a triangle it does not sample); 1 from the camera.
+double PathTracer::emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const {
+    if (depth == 0 || !triangleSampling_) return 1.0;
+    const Emitter* e = emitters_.triangle(hit.prim);
+    return powerHeuristic(prevMisPdf, e ? e->pdfOfHit(d, hit.t, emitters_.triangleProbability(hit.prim)) : 0.0);
+}
+
+// The interpolated vertex normal on the side of ng (the geometric normal facing the ray), or ng.
+Vec3 PathTracer::shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng) const {
+    if (tri.n[0] < 0) return ng;
+    const double b0 = 1.0 - hit.u - hit.v;
+    const Vec3 ns = normalize(scene_.normals[tri.n[0]] * b0 + scene_.normals[tri.n[1]] * hit.u + scene_.normals[tri.n[2]] * hit.v);
+    return dot(ns, ng) < 0 ? -ns : ns;
+}
+
 Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int depth, std::uint64_t path, double prevMisPdf,
                         const Color& throughput, PathContext& pc) const {
     if (!found) return escaped(d, depth, prevMisPdf);
@@ -88,25 +104,11 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const bool frontFace = dot(ng, d) < 0;
 
     Color L(0.0);
-    if (mat.isEmissive() && frontFace) {
-        double w = 1.0;
-        if (depth > 0 && triangleSampling_) {
-            // Light sampling's density of this direction (0 for a triangle it does not sample).
-            const Emitter* e = emitters_.triangle(hit.prim);
-            w = powerHeuristic(prevMisPdf, e ? e->pdfOfHit(d, hit.t, emitters_.triangleProbability(hit.prim)) : 0.0);
-        }
-        L += (textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission) * w;
-    }
+    if (mat.isEmissive() && frontFace) L += (textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission) * emissionWeight(hit, d, depth, prevMisPdf);
     if (depth >= settings_.maxDepth) return L;
 
     if (!frontFace) ng = -ng;
-    Vec3 ns = ng;
-    if (tri.n[0] >= 0) {
-        const double b0 = 1.0 - hit.u - hit.v;
-        ns = normalize(scene_.normals[tri.n[0]] * b0 + scene_.normals[tri.n[1]] * hit.u + scene_.normals[tri.n[2]] * hit.v);
-        if (dot(ns, ng) < 0) ns = -ns;
-    }
-    const Frame frame = Frame::fromNormal(ns);
+    const Frame frame = Frame::fromNormal(shadingNormal(tri, hit, ng));
     const Vec3 wo = frame.toLocal(normalize(-d));
     if (wo.z <= 0) return L;  // seen from behind its shading normal: reflects nothing
 
@@ -158,20 +160,25 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
         bundle->rays.push_back({s.weight, next, s.misPdf, survive, nextPath});
     }
     if (!bundle || bundle->rays.empty()) return L;
-    // A set's surviving rays share this origin: one closest-hit query for all of them (16-wide packets),
-    // then each continues as its own path.
-    const std::size_t n = bundle->rays.size();
-    if (bundle->capacity < n) {
-        bundle->found = makeCacheLineArray<bool>(n);
-        bundle->capacity = n;
+    return L + traceBundle(origin, *bundle, depth, pc);
+}
+
+// A set's surviving rays share their origin: one closest-hit query for all of them (16-wide packets),
+// then each continues as its own path.
+Color PathTracer::traceBundle(const Vec3& origin, RayBundle& bundle, int depth, PathContext& pc) const {
+    const std::size_t n = bundle.rays.size();
+    if (bundle.capacity < n) {
+        bundle.found = makeCacheLineArray<bool>(n);
+        bundle.capacity = n;
     }
-    bundle->hits.resize(n);
-    accel_.intersectBundle(origin, bundle->dirs.data(), n, epsilon_, bundle->hits.data(), bundle->found.get());
+    bundle.hits.resize(n);
+    accel_.intersectBundle(origin, bundle.dirs.data(), n, epsilon_, bundle.hits.data(), bundle.found.get());
     pc.stats.rays += n;
+    Color L(0.0);
     for (std::size_t i = 0; i < n; ++i) {
-        const RayBundle::Ray& r = bundle->rays[i];
-        const Hit* hit = bundle->found[i] ? &bundle->hits[i] : nullptr;
-        L += r.weight * shade(origin, bundle->dirs[i], hit, depth + 1, r.path, r.misPdf, r.next, pc) / r.survive;
+        const RayBundle::Ray& r = bundle.rays[i];
+        const Hit* hit = bundle.found[i] ? &bundle.hits[i] : nullptr;
+        L += r.weight * shade(origin, bundle.dirs[i], hit, depth + 1, r.path, r.misPdf, r.next, pc) / r.survive;
     }
     return L;
 }

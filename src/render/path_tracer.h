@@ -106,6 +106,10 @@ private:
     /// continuation.
     Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf,
                 const Color& throughput, PathContext& pc) const;
+    /// A branching vertex's rays, traced together from `origin` and each continued as its own path.
+    Color traceBundle(const Vec3& origin, RayBundle& bundle, int depth, PathContext& pc) const;
+    Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng) const;
+    double emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const;
     /// The estimator's misPdf at this vertex, times the first hit's split count k at depth 0 (k calls:
     /// the density of the whole set of directions, as MIS needs it).
     double estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const;

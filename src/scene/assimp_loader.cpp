@@ -256,6 +256,109 @@ nlohmann::json member(const nlohmann::json& j, const std::string& pointer) {
 
 }  // namespace
 
+namespace {
+
+/// One triangle mesh placed by its node's world transform (normals by its inverse transpose).
+void addMesh(const aiMesh* mesh, const aiMatrix4x4& world, const aiMatrix3x3& normalMatrix, const std::string& path, Scene& scene) {
+    const auto base = static_cast<std::uint32_t>(scene.positions.size());
+    const auto normalBase = static_cast<std::int32_t>(scene.normals.size());
+    const auto uvBase = static_cast<std::int32_t>(scene.uvs.size());
+    const bool hasUvs = mesh->mTextureCoords[0] != nullptr;
+    requireMemory(saturatingMultiply(mesh->mNumVertices, 80) + saturatingMultiply(mesh->mNumFaces, 48),
+                  fmt::format("{}: mesh '{}' of {} vertices and {} faces", path, mesh->mName.C_Str(), mesh->mNumVertices, mesh->mNumFaces));
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const Vec3 p = toVec3(world * mesh->mVertices[v]);
+        if (!isFinite(p)) throw InputError(fmt::format("{}: mesh '{}' vertex {} is not finite", path, mesh->mName.C_Str(), v));
+        scene.positions.push_back(p);
+        if (mesh->mNormals) {
+            Vec3 n = toVec3(normalMatrix * mesh->mNormals[v]);
+            const double len = length(n);
+            scene.normals.push_back(len > 0 && std::isfinite(len) ? n / len : Vec3(0, 1, 0));
+        }
+        if (hasUvs) {
+            const aiVector3D& t = mesh->mTextureCoords[0][v];
+            const bool finite = std::isfinite(t.x) && std::isfinite(t.y);
+            scene.uvs.push_back({finite ? t.x : 0.0, finite ? t.y : 0.0});
+        }
+    }
+    const std::uint32_t material = mesh->mMaterialIndex < scene.materials.size() ? mesh->mMaterialIndex : 0;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+        const aiFace& face = mesh->mFaces[f];
+        if (face.mNumIndices != 3) continue;
+        Triangle t;
+        t.material = material;
+        for (int c = 0; c < 3; ++c) {
+            const unsigned idx = face.mIndices[c];
+            if (idx >= mesh->mNumVertices) throw InputError(fmt::format("{}: mesh '{}' face {} has a vertex index out of range", path, mesh->mName.C_Str(), f));
+            t.v[static_cast<std::size_t>(c)] = base + idx;
+            t.n[static_cast<std::size_t>(c)] = mesh->mNormals ? normalBase + static_cast<std::int32_t>(idx) : -1;
+            t.t[static_cast<std::size_t>(c)] = hasUvs ? uvBase + static_cast<std::int32_t>(idx) : -1;
+        }
+        scene.triangles.push_back(t);
+    }
+}
+
+/// The file's first camera, placed by its node.
+Camera fileCamera(const aiScene& ai, const std::vector<std::pair<std::string, aiMatrix4x4>>& nodes, const nlohmann::json& gltf,
+                  const std::string& path) {
+    const bool fbx = lowerExtension(path) == ".fbx";
+    Camera camera;
+    const aiCamera& c = *ai.mCameras[0];
+    const aiMatrix4x4 world = nodeTransform(nodes, c.mName);
+    aiMatrix3x3 rotation(world);
+    const nlohmann::json yfov = member(gltf, "/cameras/0/perspective/yfov");
+    if (yfov.is_number()) {
+        // glTF: the camera sits at its node's origin looking down the node's -z, +y up (Assimp 5.2 also
+        // copies the node's translation into the camera's position, which would count it twice).
+        camera.position = toVec3(world * aiVector3D(0, 0, 0));
+        camera.target = camera.position + normalize(toVec3(rotation * aiVector3D(0, 0, -1)));
+        camera.up = normalize(toVec3(rotation * aiVector3D(0, 1, 0)));
+        camera.fovY = yfov.get<double>() * 180.0 / kPi;
+        return camera;
+    }
+    const Vec3 position = toVec3(world * c.mPosition);
+    camera.position = position;
+    camera.target = position + normalize(toVec3(rotation * c.mLookAt));
+    camera.up = normalize(toVec3(rotation * c.mUp));
+    // aiCamera::mHorizontalFOV is documented as half the horizontal field of view, but Assimp 5.2's FBX
+    // importer stores the file's full FieldOfView there (Assimp 5.3 halves it). The vertical field of
+    // view follows from the half-angle and the aspect ratio.
+    const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
+    double half = c.mHorizontalFOV;
+    if (fbx && (aiGetVersionMajor() < 5 || (aiGetVersionMajor() == 5 && aiGetVersionMinor() < 3))) half *= 0.5;
+    camera.fovY = 2.0 * std::atan(std::tan(half) / aspect) * 180.0 / kPi;
+    return camera;
+}
+
+/// One of the file's lights, placed by its node; a kind symphong does not have is a warning.
+void addLight(const aiLight& l, const std::vector<std::pair<std::string, aiMatrix4x4>>& nodes, const std::string& path, Scene& scene) {
+    const aiMatrix4x4 world = nodeTransform(nodes, l.mName);
+    aiMatrix3x3 rotation(world);
+    Light light;
+    light.intensity = toColor(l.mColorDiffuse);
+    light.position = toVec3(world * l.mPosition);
+    light.direction = toVec3(rotation * l.mDirection);
+    if (length(light.direction) == 0) light.direction = Vec3(0, -1, 0);
+    light.direction = normalize(light.direction);
+    switch (l.mType) {
+        case aiLightSource_POINT: light.type = Light::Type::Point; break;
+        case aiLightSource_DIRECTIONAL: light.type = Light::Type::Directional; break;
+        case aiLightSource_SPOT:
+            // Half-angles from the axis, as glTF gives them.
+            light.type = Light::Type::Spot;
+            light.cosOuter = std::cos(std::clamp(static_cast<double>(l.mAngleOuterCone), 1e-3, kPi / 2));
+            light.cosInner = std::min(std::cos(std::clamp(static_cast<double>(l.mAngleInnerCone), 0.0, kPi / 2)), 1.0);
+            if (!(light.cosInner > light.cosOuter)) light.cosInner = std::min(1.0, light.cosOuter + 1e-3);
+            break;
+        default:
+            scene.warnings.push_back(fmt::format("{}: light '{}' is of a kind symphong does not have (area/ambient); ignored", path, l.mName.C_Str()));
+            return;
+    }
+    if (isFinite(light.intensity) && minComponent(light.intensity) >= 0) scene.lights.push_back(light);
+}
+
+}  // namespace
+
 Scene loadAssimp(const std::string& path) {
     if (!std::filesystem::exists(path)) throw MissingFileError(fmt::format("{}: no such file", path));
     const nlohmann::json gltf = gltfJson(path);
@@ -281,109 +384,17 @@ Scene loadAssimp(const std::string& path) {
 
     const std::vector<std::pair<const aiNode*, aiMatrix4x4>> placed = worldTransforms(ai->mRootNode);
     const std::vector<std::pair<std::string, aiMatrix4x4>> nodes = namedTransforms(placed);
-    // Every node's meshes, placed by the node's world transform; normals by its inverse transpose.
     for (const auto& [node, world] : placed) {
         aiMatrix3x3 normalMatrix(world);
         normalMatrix.Inverse().Transpose();
         for (unsigned k = 0; k < node->mNumMeshes; ++k) {
             const aiMesh* mesh = ai->mMeshes[node->mMeshes[k]];
-            if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-            const auto base = static_cast<std::uint32_t>(scene.positions.size());
-            const auto normalBase = static_cast<std::int32_t>(scene.normals.size());
-            const auto uvBase = static_cast<std::int32_t>(scene.uvs.size());
-            const bool hasUvs = mesh->mTextureCoords[0] != nullptr;
-            requireMemory(saturatingMultiply(mesh->mNumVertices, 80) + saturatingMultiply(mesh->mNumFaces, 48),
-                          fmt::format("{}: mesh '{}' of {} vertices and {} faces", path, mesh->mName.C_Str(), mesh->mNumVertices, mesh->mNumFaces));
-            for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-                const Vec3 p = toVec3(world * mesh->mVertices[v]);
-                if (!isFinite(p)) throw InputError(fmt::format("{}: mesh '{}' vertex {} is not finite", path, mesh->mName.C_Str(), v));
-                scene.positions.push_back(p);
-                if (mesh->mNormals) {
-                    Vec3 n = toVec3(normalMatrix * mesh->mNormals[v]);
-                    const double len = length(n);
-                    scene.normals.push_back(len > 0 && std::isfinite(len) ? n / len : Vec3(0, 1, 0));
-                }
-                if (hasUvs) {
-                    const aiVector3D& t = mesh->mTextureCoords[0][v];
-                    const bool finite = std::isfinite(t.x) && std::isfinite(t.y);
-                    scene.uvs.push_back({finite ? t.x : 0.0, finite ? t.y : 0.0});
-                }
-            }
-            const std::uint32_t material = mesh->mMaterialIndex < scene.materials.size() ? mesh->mMaterialIndex : 0;
-            for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-                const aiFace& face = mesh->mFaces[f];
-                if (face.mNumIndices != 3) continue;
-                Triangle t;
-                t.material = material;
-                for (int c = 0; c < 3; ++c) {
-                    const unsigned idx = face.mIndices[c];
-                    if (idx >= mesh->mNumVertices) throw InputError(fmt::format("{}: mesh '{}' face {} has a vertex index out of range", path, mesh->mName.C_Str(), f));
-                    t.v[static_cast<std::size_t>(c)] = base + idx;
-                    t.n[static_cast<std::size_t>(c)] = mesh->mNormals ? normalBase + static_cast<std::int32_t>(idx) : -1;
-                    t.t[static_cast<std::size_t>(c)] = hasUvs ? uvBase + static_cast<std::int32_t>(idx) : -1;
-                }
-                scene.triangles.push_back(t);
-            }
+            if (mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) addMesh(mesh, world, normalMatrix, path, scene);
         }
     }
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
-
-    const bool fbx = lowerExtension(path) == ".fbx";
-    if (ai->mNumCameras > 0) {
-        const aiCamera& c = *ai->mCameras[0];
-        const aiMatrix4x4 world = nodeTransform(nodes, c.mName);
-        aiMatrix3x3 rotation(world);
-        const nlohmann::json yfov = member(gltf, "/cameras/0/perspective/yfov");
-        if (yfov.is_number()) {
-            // glTF: the camera sits at its node's origin looking down the node's -z, +y up (Assimp 5.2 also
-            // copies the node's translation into the camera's position, which would count it twice).
-            scene.camera.position = toVec3(world * aiVector3D(0, 0, 0));
-            scene.camera.target = scene.camera.position + normalize(toVec3(rotation * aiVector3D(0, 0, -1)));
-            scene.camera.up = normalize(toVec3(rotation * aiVector3D(0, 1, 0)));
-            scene.camera.fovY = yfov.get<double>() * 180.0 / kPi;
-        } else {
-            const Vec3 position = toVec3(world * c.mPosition);
-            scene.camera.position = position;
-            scene.camera.target = position + normalize(toVec3(rotation * c.mLookAt));
-            scene.camera.up = normalize(toVec3(rotation * c.mUp));
-            // aiCamera::mHorizontalFOV is documented as half the horizontal field of view, but Assimp 5.2's FBX
-            // importer stores the file's full FieldOfView there (Assimp 5.3 halves it). The vertical field of
-            // view follows from the half-angle and the aspect ratio.
-            const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
-            double half = c.mHorizontalFOV;
-            if (fbx && (aiGetVersionMajor() < 5 || (aiGetVersionMajor() == 5 && aiGetVersionMinor() < 3))) half *= 0.5;
-            scene.camera.fovY = 2.0 * std::atan(std::tan(half) / aspect) * 180.0 / kPi;
-        }
-    } else {
-        scene.camera = scene.automaticCamera();
-    }
-
-    for (unsigned i = 0; i < ai->mNumLights; ++i) {
-        const aiLight& l = *ai->mLights[i];
-        const aiMatrix4x4 world = nodeTransform(nodes, l.mName);
-        aiMatrix3x3 rotation(world);
-        Light light;
-        light.intensity = toColor(l.mColorDiffuse);
-        light.position = toVec3(world * l.mPosition);
-        light.direction = toVec3(rotation * l.mDirection);
-        if (length(light.direction) == 0) light.direction = Vec3(0, -1, 0);
-        light.direction = normalize(light.direction);
-        switch (l.mType) {
-            case aiLightSource_POINT: light.type = Light::Type::Point; break;
-            case aiLightSource_DIRECTIONAL: light.type = Light::Type::Directional; break;
-            case aiLightSource_SPOT:
-                // Half-angles from the axis, as glTF gives them.
-                light.type = Light::Type::Spot;
-                light.cosOuter = std::cos(std::clamp(static_cast<double>(l.mAngleOuterCone), 1e-3, kPi / 2));
-                light.cosInner = std::min(std::cos(std::clamp(static_cast<double>(l.mAngleInnerCone), 0.0, kPi / 2)), 1.0);
-                if (!(light.cosInner > light.cosOuter)) light.cosInner = std::min(1.0, light.cosOuter + 1e-3);
-                break;
-            default:
-                scene.warnings.push_back(fmt::format("{}: light '{}' is of a kind symphong does not have (area/ambient); ignored", path, l.mName.C_Str()));
-                continue;
-        }
-        if (isFinite(light.intensity) && minComponent(light.intensity) >= 0) scene.lights.push_back(light);
-    }
+    scene.camera = ai->mNumCameras > 0 ? fileCamera(*ai, nodes, gltf, path) : scene.automaticCamera();
+    for (unsigned i = 0; i < ai->mNumLights; ++i) addLight(*ai->mLights[i], nodes, path, scene);
     return scene;
 }
 

@@ -169,7 +169,10 @@ EnvironmentMap environmentMap(const json& e, const std::filesystem::path& dir, c
 
 }  // namespace
 
-Scene loadJsonScene(const std::string& path) {
+namespace {
+
+/// The document, or an InputError naming the file, line and column of a syntax error.
+json parseSceneJson(const std::string& path) {
     const std::string text = readTextFile(path);
     json doc;
     try {
@@ -196,92 +199,101 @@ Scene loadJsonScene(const std::string& path) {
     // Deeper than any scene needs; also keeps every recursive walk of the document (dump) shallow.
     constexpr std::size_t kMaxDepth = 32;
     if (nestingDepth(doc) > kMaxDepth) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", path, kMaxDepth));
-    checkKeys(doc, {"obj", "mesh", "builtin", "camera", "materials", "environment", "name", "lights"}, "the scene", path);
-    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    return doc;
+}
 
-    Scene scene;
+/// The scene's geometry: "obj" or "mesh" (a file) or "builtin"; `cameraFromData` says whether its camera
+/// is the data's own (a mesh file's or the built-in box's) rather than the automatic one.
+Scene loadGeometry(const json& doc, const std::filesystem::path& dir, const std::string& path, bool& cameraFromData) {
     if (doc.contains("obj") + doc.contains("mesh") + doc.contains("builtin") != 1)
         throw InputError(fmt::format("{}: give exactly one of \"obj\" or \"mesh\" (a path) or \"builtin\": \"cornell\"", path));
-    bool cameraFromData = false;
-    if (doc.contains("obj") || doc.contains("mesh")) {
-        const char* key = doc.contains("obj") ? "obj" : "mesh";
-        if (!doc[key].is_string()) throw InputError(fmt::format("{}: \"{}\" must be a string path", path, key));
-        std::filesystem::path file = doc[key].get<std::string>();
-        if (file.is_relative()) file = dir / file;
-        const std::string ext = lowerExtension(file.string());
-        if (std::string(key) == "mesh" && ext != ".obj" && !isAssimpExtension(file.string()))
-            throw InputError(fmt::format("{}: \"mesh\": {}: not a format symphong reads (.obj, .gltf, .glb, .ply, .fbx, .dae, .3ds)", path,
-                                         file.string()));
-        try {
-            scene = ext == ".obj" ? loadObj(file.string()) : loadAssimp(file.string());
-            // A camera from the file (glTF, FBX, Collada) is the scene's own, as the built-in box's.
-            cameraFromData = ext != ".obj";
-        } catch (const MissingFileError& e) {
-            throw MissingFileError(fmt::format("{}: \"{}\": {}", path, key, e.what()));
-        } catch (const InputError& e) {
-            throw InputError(fmt::format("{}: \"{}\": {}", path, key, e.what()));
-        }
-    } else {
+    if (doc.contains("builtin")) {
         if (doc["builtin"] != "cornell")
             throw InputError(fmt::format("{}: unknown builtin scene {} (valid: \"cornell\")", path, brief(doc["builtin"])));
-        scene = makeCornellBox();
         cameraFromData = true;
+        return makeCornellBox();
     }
+    const char* key = doc.contains("obj") ? "obj" : "mesh";
+    if (!doc[key].is_string()) throw InputError(fmt::format("{}: \"{}\" must be a string path", path, key));
+    std::filesystem::path file = doc[key].get<std::string>();
+    if (file.is_relative()) file = dir / file;
+    const std::string ext = lowerExtension(file.string());
+    if (std::string(key) == "mesh" && ext != ".obj" && !isAssimpExtension(file.string()))
+        throw InputError(fmt::format("{}: \"mesh\": {}: not a format symphong reads (.obj, .gltf, .glb, .ply, .fbx, .dae, .3ds)", path,
+                                     file.string()));
+    try {
+        // A camera from the file (glTF, FBX, Collada) is the scene's own, as the built-in box's.
+        cameraFromData = ext != ".obj";
+        return ext == ".obj" ? loadObj(file.string()) : loadAssimp(file.string());
+    } catch (const MissingFileError& e) {
+        throw MissingFileError(fmt::format("{}: \"{}\": {}", path, key, e.what()));
+    } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: \"{}\": {}", path, key, e.what()));
+    }
+}
+
+/// "materials": overrides of the named materials' kd, ks, ns, ke.
+void overrideMaterials(Scene& scene, const json& mats, const std::string& path) {
+    if (!mats.is_object()) throw InputError(fmt::format("{}: \"materials\" must be an object of name: {{...}}", path));
+    for (const auto& item : mats.items()) {
+        const int idx = scene.findMaterial(item.key());
+        if (idx < 0) {
+            std::string list;
+            for (const auto& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
+            throw InputError(fmt::format("{}: material override '{}' matches no material in the scene (have: {})", path, item.key(), list));
+        }
+        const json& m = item.value();
+        const std::string where = "materials." + item.key();
+        checkKeys(m, {"kd", "ks", "ns", "ke"}, where, path);
+        PhongMaterial& mat = scene.materials[static_cast<std::size_t>(idx)];
+        if (m.contains("kd")) mat.rhoD = nonNegativeColor(m["kd"], where + ".kd", path);
+        if (m.contains("ks")) mat.rhoS = nonNegativeColor(m["ks"], where + ".ks", path);
+        if (m.contains("ke")) mat.emission = nonNegativeColor(m["ke"], where + ".ke", path);
+        if (m.contains("ns")) {
+            mat.exponent = number(m["ns"], where + ".ns", path);
+            if (mat.exponent < 0) throw InputError(fmt::format("{}: {}.ns = {} is negative (a Phong exponent must be >= 0)", path, where, mat.exponent));
+        }
+    }
+}
+
+/// "camera": position, target, up, fov over the data's camera or the automatic one.
+Camera sceneCamera(const Scene& scene, const json& c, bool cameraFromData, const std::string& path) {
+    checkKeys(c, {"position", "target", "up", "fov"}, "\"camera\"", path);
+    Camera cam = cameraFromData ? scene.camera : scene.automaticCamera();
+    if (c.contains("position")) cam.position = vec3(c["position"], "camera.position", path);
+    if (c.contains("target")) cam.target = vec3(c["target"], "camera.target", path);
+    if (c.contains("up")) cam.up = vec3(c["up"], "camera.up", path);
+    if (c.contains("fov")) cam.fovY = number(c["fov"], "camera.fov", path);
+    return cam;
+}
+
+}  // namespace
+
+Scene loadJsonScene(const std::string& path) {
+    const json doc = parseSceneJson(path);
+    checkKeys(doc, {"obj", "mesh", "builtin", "camera", "materials", "environment", "name", "lights"}, "the scene", path);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    bool cameraFromData = false;
+    Scene scene = loadGeometry(doc, dir, path, cameraFromData);
     scene.name = std::filesystem::path(path).stem().string();
     if (doc.contains("name")) {
         if (!doc["name"].is_string()) throw InputError(fmt::format("{}: \"name\" must be a string", path));
         scene.name = doc["name"].get<std::string>();
     }
-
     if (doc.contains("lights")) {
         if (!doc["lights"].is_array()) throw InputError(fmt::format("{}: \"lights\" must be an array of lights", path));
         for (std::size_t i = 0; i < doc["lights"].size(); ++i) addLight(scene, doc["lights"][i], fmt::format("lights[{}]", i), path);
     }
-
-    if (doc.contains("materials")) {
-        const json& mats = doc["materials"];
-        if (!mats.is_object()) throw InputError(fmt::format("{}: \"materials\" must be an object of name: {{...}}", path));
-        for (const auto& item : mats.items()) {
-            const int idx = scene.findMaterial(item.key());
-            if (idx < 0) {
-                std::string list;
-                for (const auto& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
-                throw InputError(fmt::format("{}: material override '{}' matches no material in the scene (have: {})", path, item.key(), list));
-            }
-            const json& m = item.value();
-            const std::string where = "materials." + item.key();
-            checkKeys(m, {"kd", "ks", "ns", "ke"}, where, path);
-            PhongMaterial& mat = scene.materials[static_cast<std::size_t>(idx)];
-            if (m.contains("kd")) mat.rhoD = nonNegativeColor(m["kd"], where + ".kd", path);
-            if (m.contains("ks")) mat.rhoS = nonNegativeColor(m["ks"], where + ".ks", path);
-            if (m.contains("ke")) mat.emission = nonNegativeColor(m["ke"], where + ".ke", path);
-            if (m.contains("ns")) {
-                mat.exponent = number(m["ns"], where + ".ns", path);
-                if (mat.exponent < 0) throw InputError(fmt::format("{}: {}.ns = {} is negative (a Phong exponent must be >= 0)", path, where, mat.exponent));
-            }
-        }
-    }
-
+    if (doc.contains("materials")) overrideMaterials(scene, doc["materials"], path);
     // After the lights and materials: the automatic camera depends on whether anything emits.
-    if (doc.contains("camera")) {
-        const json& c = doc["camera"];
-        checkKeys(c, {"position", "target", "up", "fov"}, "\"camera\"", path);
-        Camera cam = cameraFromData ? scene.camera : scene.automaticCamera();
-        if (c.contains("position")) cam.position = vec3(c["position"], "camera.position", path);
-        if (c.contains("target")) cam.target = vec3(c["target"], "camera.target", path);
-        if (c.contains("up")) cam.up = vec3(c["up"], "camera.up", path);
-        if (c.contains("fov")) cam.fovY = number(c["fov"], "camera.fov", path);
-        scene.camera = cam;
-    }
-
+    if (doc.contains("camera")) scene.camera = sceneCamera(scene, doc["camera"], cameraFromData, path);
     const bool environmentGiven = doc.contains("environment");
     if (environmentGiven) {
         const json& e = doc["environment"];
-        if (e.is_object()) {
+        if (e.is_object())
             scene.environmentMap.emplace(environmentMap(e, dir, path));
-        } else {
+        else
             scene.environment = nonNegativeColor(e, "environment", path);
-        }
     }
     finalizeScene(scene, path, environmentGiven);
     return scene;

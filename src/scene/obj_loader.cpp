@@ -199,34 +199,10 @@ Color toColor(const tinyobj::real_t c[3]) { return {c[0], c[1], c[2]}; }
 
 }  // namespace
 
-Scene loadObj(const std::string& path) {
-    const std::string text = readTextFile(path);
-    const ObjScan scan = validateObj(path, text);
-    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    // What tinyobjloader and our scene will hold per element (bytes, generously), before either exists.
-    requireMemory(scan.counts[0] * 48 + scan.counts[1] * 40 + scan.counts[2] * 48 + scan.corners * 60,
-                  fmt::format("{}: a mesh of {} vertices and {} face corners", path, scan.counts[0], scan.corners));
-    MtlKeys mtlKeys;
-    for (const std::string& lib : scan.mtllibs) {
-        const auto mtlPath = (dir / lib).string();
-        if (std::filesystem::exists(mtlPath))
-            for (auto& [name, material] : validateMtl(mtlPath, readTextFile(mtlPath))) mtlKeys[name] = material;
-    }
+namespace {
 
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = dir.string();
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path, config)) throw InputError(fmt::format("{}: {}", path, trim(reader.Error())));
-
-    Scene scene;
-    scene.name = std::filesystem::path(path).stem().string();
-    for (const std::string& lib : scan.mtllibs)
-        if (!std::filesystem::exists(dir / lib))
-            scene.warnings.push_back(fmt::format("{}: material library '{}' not found; using the default material", path, lib));
-
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+/// Positions, unit normals and texture coordinates of the OBJ's attributes.
+void copyAttributes(const tinyobj::attrib_t& attrib, Scene& scene) {
     for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
         scene.positions.emplace_back(attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]);
     for (std::size_t i = 0; i + 2 < attrib.normals.size(); i += 3) {
@@ -236,52 +212,46 @@ Scene loadObj(const std::string& path) {
     }
     for (std::size_t i = 0; i + 1 < attrib.texcoords.size(); i += 2) scene.uvs.push_back({attrib.texcoords[i], attrib.texcoords[i + 1]});
 
-    TextureTable table(scene);
-    const std::string mtlDir = dir.string();
-    for (const tinyobj::material_t& mt : reader.GetMaterials()) {
-        PhongMaterial m;
-        m.name = trim(mt.name);
-        m.rhoD = toColor(mt.diffuse);
-        m.rhoS = toColor(mt.specular);
-        m.exponent = mt.shininess;
-        m.emission = toColor(mt.emission);
-        // A map multiplies its constant (Kd, Ks, Ns, Ke) as the MTL format says; where the file gives
-        // the map but not the constant, the constant is 1 (1000 for Ns, the top of MTL's 0..1000 range).
-        const MtlMaterial& stated = mtlKeys[m.name];
-        const auto& keys = stated.keys;
-        const std::string mtlFile = stated.file.empty() ? path : stated.file;
-        const auto where = [&](const char* key) {
-            const auto it = keys.find(key);
-            return it == keys.end() ? fmt::format("{}: material '{}'", mtlFile, m.name) : fmt::format("{}:{}", mtlFile, it->second);
-        };
-        MaterialTextures& tx = m.textures;
-        tx.diffuse = mtlTexture(table, mtlDir, mt.diffuse_texname, mt.diffuse_texopt, TextureEncoding::Srgb, where("map_Kd"), scene);
-        tx.specular = mtlTexture(table, mtlDir, mt.specular_texname, mt.specular_texopt, TextureEncoding::Srgb, where("map_Ks"), scene);
-        tx.exponent = mtlTexture(table, mtlDir, mt.specular_highlight_texname, mt.specular_highlight_texopt, TextureEncoding::Linear, where("map_Ns"), scene);
-        tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"), scene);
-        tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"), scene);
-        for (const auto& [key, file] : {std::pair{"bump", mt.bump_texname}, std::pair{"norm", mt.normal_texname}, std::pair{"disp", mt.displacement_texname},
-                                        std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})
-            if (!file.empty())
-                scene.warnings.push_back(fmt::format("{}: material '{}': {} map '{}' is not supported by symphong; ignored", mtlFile, m.name, key, file));
-        if (tx.diffuse.present() && !keys.count("Kd")) m.rhoD = Color(1.0);
-        if (tx.specular.present() && !keys.count("Ks")) m.rhoS = Color(1.0);
-        if (tx.exponent.present() && !keys.count("Ns")) m.exponent = 1000;
-        if (tx.emission.present() && !keys.count("Ke")) m.emission = Color(1.0);
-        scene.materials.push_back(m);
-    }
-    const auto defaultIndex = static_cast<std::uint32_t>(scene.materials.size());
+}
+
+/// One MTL material as a Phong material with its texture maps; `keys` says which keys the file gave.
+PhongMaterial objMaterial(const tinyobj::material_t& mt, const MtlMaterial& stated, const std::string& path, TextureTable& table,
+                          const std::string& mtlDir, Scene& scene) {
+    PhongMaterial m;
+    m.name = trim(mt.name);
+    m.rhoD = toColor(mt.diffuse);
+    m.rhoS = toColor(mt.specular);
+    m.exponent = mt.shininess;
+    m.emission = toColor(mt.emission);
+    // A map multiplies its constant (Kd, Ks, Ns, Ke) as the MTL format says; where the file gives
+    // the map but not the constant, the constant is 1 (1000 for Ns, the top of MTL's 0..1000 range).
+    const auto& keys = stated.keys;
+    const std::string mtlFile = stated.file.empty() ? path : stated.file;
+    const auto where = [&](const char* key) {
+        const auto it = keys.find(key);
+        return it == keys.end() ? fmt::format("{}: material '{}'", mtlFile, m.name) : fmt::format("{}:{}", mtlFile, it->second);
+    };
+    MaterialTextures& tx = m.textures;
+    tx.diffuse = mtlTexture(table, mtlDir, mt.diffuse_texname, mt.diffuse_texopt, TextureEncoding::Srgb, where("map_Kd"), scene);
+    tx.specular = mtlTexture(table, mtlDir, mt.specular_texname, mt.specular_texopt, TextureEncoding::Srgb, where("map_Ks"), scene);
+    tx.exponent = mtlTexture(table, mtlDir, mt.specular_highlight_texname, mt.specular_highlight_texopt, TextureEncoding::Linear, where("map_Ns"), scene);
+    tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"), scene);
+    tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"), scene);
+    for (const auto& [key, file] : {std::pair{"bump", mt.bump_texname}, std::pair{"norm", mt.normal_texname}, std::pair{"disp", mt.displacement_texname},
+                                    std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})
+        if (!file.empty())
+            scene.warnings.push_back(fmt::format("{}: material '{}': {} map '{}' is not supported by symphong; ignored", mtlFile, m.name, key, file));
+    if (tx.diffuse.present() && !keys.count("Kd")) m.rhoD = Color(1.0);
+    if (tx.specular.present() && !keys.count("Ks")) m.rhoS = Color(1.0);
+    if (tx.exponent.present() && !keys.count("Ns")) m.exponent = 1000;
+    if (tx.emission.present() && !keys.count("Ke")) m.emission = Color(1.0);
+    return m;
+}
+
+/// The triangles of every shape (faces of another size were split by tinyobjloader's triangulation);
+/// returns whether some triangle uses the default material (index defaultIndex).
+bool copyTriangles(const tinyobj::ObjReader& reader, const std::string& path, std::uint32_t defaultIndex, Scene& scene) {
     bool usedDefault = false;
-
-    std::set<std::string> undefined;
-    for (const std::string& name : scan.usedMaterials)
-        if (scene.findMaterial(name) < 0) undefined.insert(name);
-    if (!undefined.empty()) {
-        std::string list;
-        for (const auto& n : undefined) list += (list.empty() ? "'" : ", '") + n + "'";
-        scene.warnings.push_back(fmt::format("{}: undefined material(s) {} get the default material", path, list));
-    }
-
     for (const tinyobj::shape_t& shape : reader.GetShapes()) {
         const tinyobj::mesh_t& mesh = shape.mesh;
         std::size_t offset = 0;
@@ -317,6 +287,52 @@ Scene loadObj(const std::string& path) {
             offset += count;
         }
     }
+    return usedDefault;
+}
+
+}  // namespace
+
+Scene loadObj(const std::string& path) {
+    const std::string text = readTextFile(path);
+    const ObjScan scan = validateObj(path, text);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    // What tinyobjloader and our scene will hold per element (bytes, generously), before either exists.
+    requireMemory(scan.counts[0] * 48 + scan.counts[1] * 40 + scan.counts[2] * 48 + scan.corners * 60,
+                  fmt::format("{}: a mesh of {} vertices and {} face corners", path, scan.counts[0], scan.corners));
+    MtlKeys mtlKeys;
+    for (const std::string& lib : scan.mtllibs) {
+        const auto mtlPath = (dir / lib).string();
+        if (std::filesystem::exists(mtlPath))
+            for (auto& [name, material] : validateMtl(mtlPath, readTextFile(mtlPath))) mtlKeys[name] = material;
+    }
+
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = dir.string();
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(path, config)) throw InputError(fmt::format("{}: {}", path, trim(reader.Error())));
+
+    Scene scene;
+    scene.name = std::filesystem::path(path).stem().string();
+    for (const std::string& lib : scan.mtllibs)
+        if (!std::filesystem::exists(dir / lib))
+            scene.warnings.push_back(fmt::format("{}: material library '{}' not found; using the default material", path, lib));
+    copyAttributes(reader.GetAttrib(), scene);
+    TextureTable table(scene);
+    for (const tinyobj::material_t& mt : reader.GetMaterials())
+        scene.materials.push_back(objMaterial(mt, mtlKeys[trim(mt.name)], path, table, dir.string(), scene));
+    const auto defaultIndex = static_cast<std::uint32_t>(scene.materials.size());
+
+    std::set<std::string> undefined;
+    for (const std::string& name : scan.usedMaterials)
+        if (scene.findMaterial(name) < 0) undefined.insert(name);
+    if (!undefined.empty()) {
+        std::string list;
+        for (const auto& n : undefined) list += (list.empty() ? "'" : ", '") + n + "'";
+        scene.warnings.push_back(fmt::format("{}: undefined material(s) {} get the default material", path, list));
+    }
+    const bool usedDefault = copyTriangles(reader, path, defaultIndex, scene);
     if (usedDefault || scene.materials.empty()) {
         PhongMaterial m;  // grey diffuse
         m.name = "default";
