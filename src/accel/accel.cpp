@@ -162,4 +162,6 @@ bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) co
     return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
+std::string embreeVersion() { return RTC_VERSION_STRING; }
+
 }  // namespace symphong

@@ -48,4 +48,7 @@ private:
     bool packets_ = false;  ///< the device has native or emulated 16-wide packets
 };
 
+/// The version of Embree this program was built with.
+std::string embreeVersion();
+
 }  // namespace symphong

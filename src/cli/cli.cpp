@@ -20,6 +20,7 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
     if (!job.root()) std::freopen("/dev/null", "w", stdout);  // help and summaries come from rank 0
     CLI::App app{"symphong: a Phong path tracer built to compare Monte Carlo estimators, symmetric sampling among them."};
     app.require_subcommand(1);
+    app.set_version_flag("--version", versionText(), "print the version and the libraries it was built with, and exit");
     RenderOptions renderOptions;
     addRenderCommand(app, renderOptions);
     FurnaceOptions furnaceOptions;
@@ -33,6 +34,8 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         // One line: the problem, then where to read about the command that was being parsed.

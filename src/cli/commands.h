@@ -23,6 +23,9 @@ inline constexpr int kBadInput = 2;
 /// makeEstimator, its std::invalid_argument as an InputError "--estimator: ...".
 std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const EstimatorOptions& options);
 
+/// `symphong --version`: the program's version and its libraries' (version.cpp).
+std::string versionText();
+
 void addRenderCommand(CLI::App& app, RenderOptions& o);
 int runRender(const RenderOptions& o, const MpiJob& job);
 

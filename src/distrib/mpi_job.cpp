@@ -3,7 +3,9 @@
 #include <mpi.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -48,6 +50,14 @@ std::string MpiJob::firstError(const std::string& localError) const {
 void MpiJob::abort(int code) const {
     if (active_) MPI_Abort(MPI_COMM_WORLD, code);
     std::exit(code);
+}
+
+std::string mpiVersion() {
+    char text[MPI_MAX_LIBRARY_VERSION_STRING];
+    int length = 0;
+    MPI_Get_library_version(text, &length);  // allowed before MPI_Init
+    const std::string all(text, static_cast<std::size_t>(std::max(0, length)));
+    return all.substr(0, all.find_first_of(",\n"));
 }
 
 }  // namespace symphong

@@ -39,4 +39,7 @@ private:
     int rank_ = 0, size_ = 1;
 };
 
+/// The MPI library in use (its own first words, e.g. "Open MPI v4.1.4").
+std::string mpiVersion();
+
 }  // namespace symphong

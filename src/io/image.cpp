@@ -4,6 +4,7 @@
 #include "io/input_error.h"
 #include "io/memory.h"
 
+#include <OpenEXRConfig.h>
 #include <ImfArray.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -125,5 +126,8 @@ Image readExr(const std::string& path) {
         throw InputError(fmt::format("{}: cannot read EXR: {}", path, e.what()));
     }
 }
+
+std::string openexrVersion() { return OPENEXR_VERSION_STRING; }
+std::string libpngVersion() { return PNG_LIBPNG_VER_STRING; }
 
 }  // namespace symphong

@@ -40,4 +40,8 @@ void writeImage(const Image& img, const std::string& path, double exposure = 1.0
 /// Reads a linear RGB OpenEXR image (any of half/float); throws InputError.
 Image readExr(const std::string& path);
 
+/// The versions of OpenEXR and libpng this program was built with.
+std::string openexrVersion();
+std::string libpngVersion();
+
 }  // namespace symphong

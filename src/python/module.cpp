@@ -29,7 +29,7 @@ with the GIL released; Ctrl-C raises KeyboardInterrupt within a tile's time. Gui
 PYBIND11_MODULE(symphong, m) {
     using namespace symphong;
     m.doc() = kModuleDoc;
-    m.attr("__version__") = "0.1.0";
+    m.attr("__version__") = SYMPHONG_VERSION;
 
     py::register_exception_translator([](std::exception_ptr p) {
         try {

@@ -2,6 +2,7 @@
 
 #include "io/memory.h"
 
+#include <oneapi/tbb/version.h>
 #include <fmt/format.h>
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -118,5 +119,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
+
+std::string tbbVersion() { return fmt::format("{} (run time {})", TBB_VERSION_STRING, TBB_runtime_version()); }
 
 }  // namespace symphong

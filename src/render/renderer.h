@@ -79,4 +79,7 @@ void cameraRay(const Camera& cam, int width, int height, double px, double py, V
 RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                     std::atomic<std::uint64_t>* progress = nullptr);
 
+/// The version of oneTBB this program was built with, and the one loaded at run time.
+std::string tbbVersion();
+
 }  // namespace symphong

@@ -398,4 +398,6 @@ Scene loadAssimp(const std::string& path) {
     return scene;
 }
 
+std::string assimpVersion() { return fmt::format("{}.{}.{}", aiGetVersionMajor(), aiGetVersionMinor(), aiGetVersionPatch()); }
+
 }  // namespace symphong

@@ -95,4 +95,7 @@ Scene loadJsonScene(const std::string& path);
 /// warning), at least one triangle, a usable camera; adds the fallback environment when nothing emits.
 void finalizeScene(Scene& scene, const std::string& source, bool environmentGiven);
 
+/// The version of Assimp in use (the library's own, at run time).
+std::string assimpVersion();
+
 }  // namespace symphong
