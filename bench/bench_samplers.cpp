@@ -1,112 +1,184 @@
-// Directions per second of each warp and each estimator (Google Benchmark). Counters report
-// directions/s, so estimators that return several directions per call compare fairly. Estimators draw
-// from the independent sampler (a PCG32 generator seeded per value); bench_sampler times the samplers.
-#include "estimators/estimator.h"
-#include "sampling/warp.h"
+// Samplers: nanoseconds per value of each sampler (1D and 2D), the cost a sampler adds to a render, and
+// of the low-discrepancy building blocks alone. The samplers are made by makeSampler and called through
+// the Sampler interface (a virtual call, as the renderer does). spp = 64; every iteration asks for
+// another (pixel, sample index, dimension), so nothing can be hoisted out of the loop:
+//   Sample1D / Sample2D — sampler.sample1D/sample2D(pixel, index, dim): includes hashing (seed, pixel);
+//   Value1D / Value2D   — sampler.value1D/value2D(key, index, spp, dim) with the pixel key hashed once per
+//                         pixel, as SampleStream (what estimators and the path tracer draw from) does.
+#include "sampling/lowdiscrepancy.h"
+#include "sampling/sampler.h"
 
 #include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <string>
 
 using namespace symphong;
 
 namespace {
 
-template <class Fn>
-void warpLoop(benchmark::State& state, Fn&& fn) {
-    Rng rng(1, 2);
-    for (auto _ : state) benchmark::DoNotOptimize(fn(rng.uniform2()));
-    state.counters["directions/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-}
+constexpr std::uint32_t kSpp = 64;
 
-void BM_UniformHemisphere(benchmark::State& s) { warpLoop(s, sampleUniformHemisphere); }
-void BM_CosineHemisphere(benchmark::State& s) { warpLoop(s, sampleCosineHemisphere); }
-void BM_PhongLobe(benchmark::State& s) {
-    const double n = static_cast<double>(s.range(0));
-    warpLoop(s, [n](Point2 p) { return samplePhongLobe(p, n); });
-}
-void BM_UniformTriangle(benchmark::State& s) { warpLoop(s, sampleUniformTriangle); }
+// Iteration k asks for sample k mod 64, dimension (k / 64) mod 32 (times 2 for pairs), pixel k / 2048.
+inline std::uint32_t indexOf(std::uint64_t k) { return static_cast<std::uint32_t>(k & (kSpp - 1)); }
+inline std::uint64_t dimOf(std::uint64_t k) { return (k >> 6) & 31; }
+inline std::uint64_t pixelOf(std::uint64_t k) { return k >> 11; }
 
-void estimatorLoop(benchmark::State& state, const std::string& name, const PhongMaterial& m) {
-    const auto est = makeEstimator(name);
-    const ShadingContext ctx{normalize(Vec3(0.3, 0.2, 0.9)), &m, 0, true};
-    const IndependentSampler sampler(16, 3);
-    DirectionList out;
-    std::size_t directions = 0;
-    std::uint64_t pixel = 0;
+void BM_Sample1D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0;
     for (auto _ : state) {
-        out.clear();
-        SampleStream samples(sampler, pixel++, 3);
-        est->sample(ctx, samples, out);
-        directions += out.size();
-        benchmark::DoNotOptimize(out.data());
+        benchmark::DoNotOptimize(sampler->sample1D(pixelOf(k), indexOf(k), dimOf(k)));
+        ++k;
     }
-    state.counters["directions/s"] = benchmark::Counter(static_cast<double>(directions), benchmark::Counter::kIsRate);
+    state.SetItemsProcessed(state.iterations());
 }
 
-/// A glossy material (rho_d 0.3, rho_s 0.6, n 50): the symmetric estimators return 16 + 8 directions.
-void BM_Estimator(benchmark::State& state, const std::string& name) {
-    PhongMaterial m;
-    m.rhoD = Color(0.3);
-    m.rhoS = Color(0.6);
-    m.exponent = 50;
-    estimatorLoop(state, name, m);
-}
-
-/// A diffuse material: the symmetric estimators return their 16 pieces, reused by sign flips.
-void BM_DiffuseOnly(benchmark::State& state, const std::string& name) {
-    PhongMaterial m;
-    m.rhoD = Color(0.7);
-    estimatorLoop(state, name, m);
-}
-
-/// The first hit as the path tracer calls it: one camera sample after another of a 64-spp pixel under the
-/// sobol sampler (the default), a glossy material seen at 30 degrees; spread-mode estimators share their
-/// round's point, so their cost per call includes the pattern look-ups.
-void BM_FirstHit(benchmark::State& state, const std::string& name, SymmetricMode mode, int orbit) {
-    PhongMaterial m;
-    m.rhoD = Color(0.2);
-    m.rhoS = Color(0.7);
-    m.exponent = 100;
-    EstimatorOptions o;
-    o.symmetricMode = mode;
-    o.symmetricOrbit = orbit;
-    const auto est = makeEstimator(name, o);
-    const ShadingContext ctx{normalize(Vec3(0.5, 0.0, 0.866)), &m, 0, true};
-    const SobolSampler sampler(64, 3);
-    DirectionList out;
-    std::size_t directions = 0;
-    std::uint64_t i = 0;
+void BM_Sample2D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0;
     for (auto _ : state) {
-        out.clear();
-        SampleStream samples(sampler, i / 64, static_cast<std::uint32_t>(i % 64), 1ull << 40);
-        ++i;
-        est->sample(ctx, samples, out);
-        directions += out.size();
-        benchmark::DoNotOptimize(out.data());
+        const Point2 p = sampler->sample2D(pixelOf(k), indexOf(k), 2 * dimOf(k));
+        benchmark::DoNotOptimize(p.u);
+        benchmark::DoNotOptimize(p.v);
+        ++k;
     }
-    state.counters["directions/s"] = benchmark::Counter(static_cast<double>(directions), benchmark::Counter::kIsRate);
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Value1D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0, key = sampler->pixelKey(0);
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sampler->value1D(key, indexOf(k), kSpp, dimOf(k)));
+        if ((++k & 2047) == 0) key = sampler->pixelKey(pixelOf(k));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Value2D(benchmark::State& state, const std::string& name) {
+    const auto sampler = makeSampler(name, kSpp, 7);
+    std::uint64_t k = 0, key = sampler->pixelKey(0);
+    for (auto _ : state) {
+        const Point2 p = sampler->value2D(key, indexOf(k), kSpp, 2 * dimOf(k));
+        benchmark::DoNotOptimize(p.u);
+        benchmark::DoNotOptimize(p.v);
+        if ((++k & 2047) == 0) key = sampler->pixelKey(pixelOf(k));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// Building blocks: throughput of independent calls on varying inputs.
+void BM_OwenScramble(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(owenScramble(k * 0x9E3779B9u, k ^ 0x5bd1e995u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_OwenScrambleExact(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(owenScrambleExact(k * 0x9E3779B9u, k ^ 0x5bd1e995u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// sobolDimension1 (four table look-ups) and sobolDimension1Loop (a loop over the index's set bits): on
+// indices below spp = 64 in a scrambled order (what the samplers ask for; the loop's branches are then
+// unpredictable) and on full 32-bit indices.
+inline std::uint32_t scrambledBelow64(std::uint32_t k) { return hash32(k) & 63u; }
+
+void BM_SobolDimension1_Below64(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1(scrambledBelow64(k)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_SobolDimension1_Full32(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1(k * 0x9E3779B9u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_SobolDimension1Loop_Below64(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1Loop(scrambledBelow64(k)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_SobolDimension1Loop_Full32(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(sobolDimension1Loop(k * 0x9E3779B9u));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// The hash32 of the input alone, to subtract from the Below64 rows.
+void BM_Hash32(benchmark::State& state) {
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(scrambledBelow64(k));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_PermuteIndex(benchmark::State& state) {
+    const auto n = static_cast<std::uint32_t>(state.range(0));
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(permuteIndex(k % n, n, hash32(k / n)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_PermutePowerOfTwo(benchmark::State& state) {
+    const auto log2n = static_cast<std::uint32_t>(state.range(0));
+    const std::uint32_t mask = (1u << log2n) - 1u;
+    std::uint32_t k = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(permutePowerOfTwo(k & mask, log2n, hash32(k >> log2n)));
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations());
 }
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_FirstHit, phong, std::string("phong"), SymmetricMode::Branch, 8);
-BENCHMARK_CAPTURE(BM_FirstHit, symmetric_mix_spread_orbit1, std::string("symmetric-mix"), SymmetricMode::Spread, 1);
-BENCHMARK_CAPTURE(BM_FirstHit, symmetric_mix_spread_orbit2, std::string("symmetric-mix"), SymmetricMode::Spread, 2);
-BENCHMARK_CAPTURE(BM_FirstHit, symmetric_mix_spread_orbit8, std::string("symmetric-mix"), SymmetricMode::Spread, 8);
-BENCHMARK_CAPTURE(BM_FirstHit, symmetric_mix_branch_orbit2, std::string("symmetric-mix"), SymmetricMode::Branch, 2);
-BENCHMARK_CAPTURE(BM_FirstHit, symmetric_mix_branch_orbit8, std::string("symmetric-mix"), SymmetricMode::Branch, 8);
-BENCHMARK_CAPTURE(BM_FirstHit, symmetric_spread, std::string("symmetric"), SymmetricMode::Spread, 8);
-BENCHMARK(BM_UniformHemisphere);
-BENCHMARK(BM_CosineHemisphere);
-BENCHMARK(BM_PhongLobe)->Arg(10)->Arg(1000);
-BENCHMARK(BM_UniformTriangle);
-BENCHMARK_CAPTURE(BM_Estimator, uniform, std::string("uniform"));
-BENCHMARK_CAPTURE(BM_Estimator, cosine, std::string("cosine"));
-BENCHMARK_CAPTURE(BM_Estimator, stratified, std::string("stratified"));
-BENCHMARK_CAPTURE(BM_Estimator, phong, std::string("phong"));
-BENCHMARK_CAPTURE(BM_Estimator, paper, std::string("paper"));
-BENCHMARK_CAPTURE(BM_Estimator, symmetric, std::string("symmetric"));
-BENCHMARK_CAPTURE(BM_Estimator, symmetric_shifted, std::string("symmetric-shifted"));
-BENCHMARK_CAPTURE(BM_Estimator, symmetric_mix, std::string("symmetric-mix"));
-BENCHMARK_CAPTURE(BM_DiffuseOnly, cosine, std::string("cosine"));
-BENCHMARK_CAPTURE(BM_DiffuseOnly, symmetric, std::string("symmetric"));
-BENCHMARK_CAPTURE(BM_DiffuseOnly, symmetric_shifted, std::string("symmetric-shifted"));
+BENCHMARK_CAPTURE(BM_Sample1D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Sample1D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Sample1D, sobol, std::string("sobol"));
+BENCHMARK_CAPTURE(BM_Sample2D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Sample2D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Sample2D, sobol, std::string("sobol"));
+BENCHMARK_CAPTURE(BM_Value1D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Value1D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Value1D, sobol, std::string("sobol"));
+BENCHMARK_CAPTURE(BM_Value2D, independent, std::string("independent"));
+BENCHMARK_CAPTURE(BM_Value2D, stratified, std::string("stratified"));
+BENCHMARK_CAPTURE(BM_Value2D, sobol, std::string("sobol"));
+BENCHMARK(BM_OwenScramble);
+BENCHMARK(BM_OwenScrambleExact);
+BENCHMARK(BM_SobolDimension1_Below64);
+BENCHMARK(BM_SobolDimension1_Full32);
+BENCHMARK(BM_SobolDimension1Loop_Below64);
+BENCHMARK(BM_SobolDimension1Loop_Full32);
+BENCHMARK(BM_Hash32);
+BENCHMARK(BM_PermuteIndex)->Arg(64)->Arg(100);
+BENCHMARK(BM_PermutePowerOfTwo)->Arg(6);
