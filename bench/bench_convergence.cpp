@@ -10,8 +10,8 @@
 #include "scene/scene.h"
 #include "study/metrics.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>

@@ -8,12 +8,12 @@
 #include "sampling/warp.h"
 #include "scene/scene.h"
 
-#include <CLI/CLI.hpp>
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
+#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <filesystem>
@@ -75,9 +75,11 @@ void benchScene(const std::string& spec, const std::string& estimatorName, int s
     const RenderResult r = render(scene, accel, *estimator, rs);
     const double raysPerSec = r.stats.rays / r.stats.seconds;
     const double raw = rawEmbreeRate(scene, accel, threads);
-    fmt::print("{:<22} {:>9} tris  {:<10} {}x{} {:>4} spp  {:6.2f} s  {:7.2f} Mrays/s  {:7.3f} Msamples/s  | raw Embree {:7.2f} Mrays/s  ratio {:.2f}\n",
-               scene.name, scene.triangles.size(), estimatorName, size, size, spp, r.stats.seconds, raysPerSec / 1e6,
-               r.stats.samples / r.stats.seconds / 1e6, raw / 1e6, raysPerSec / raw);
+    fmt::print(
+        "{:<22} {:>9} tris  {:<10} {}x{} {:>4} spp  {:6.2f} s  {:7.2f} Mrays/s  {:7.3f} Msamples/s  | raw Embree {:7.2f} Mrays/s  ratio "
+        "{:.2f}\n",
+        scene.name, scene.triangles.size(), estimatorName, size, size, spp, r.stats.seconds, raysPerSec / 1e6,
+        r.stats.samples / r.stats.seconds / 1e6, raw / 1e6, raysPerSec / raw);
 }
 
 }  // namespace

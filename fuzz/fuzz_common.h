@@ -110,7 +110,8 @@ inline Scene loadObjInput(const fs::path& dir, std::string_view input) {
 
 // ---- fuzz_json: the JSON text, beside fixed files it may name -----------------------------------------
 
-constexpr const char* kFloorObj = "mtllib floor.mtl\nv -5 0 -5\nv -5 0 5\nv 5 0 5\nv 5 0 -5\nvn 0 1 0\nusemtl floor\nf 1//1 2//1 3//1 4//1\n";
+constexpr const char* kFloorObj =
+    "mtllib floor.mtl\nv -5 0 -5\nv -5 0 5\nv 5 0 5\nv 5 0 -5\nvn 0 1 0\nusemtl floor\nf 1//1 2//1 3//1 4//1\n";
 constexpr const char* kFloorMtl = "newmtl floor\nKd 0.5 0.5 0.5\nKs 0.2 0.2 0.2\nNs 20\n";
 constexpr const char* kLampObj = "mtllib lamp.mtl\nv -1 2 -1\nv 1 2 -1\nv 1 2 1\nv -1 2 1\nusemtl lamp\nf 1 2 3 4\n";
 constexpr const char* kLampMtl = "newmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
@@ -182,7 +183,8 @@ inline std::string textureProblem(const Texture& t) {
     if (t.width() <= 0 || t.height() <= 0 || t.channels() < 1 || t.channels() > 4)
         return "texture '" + t.name() + "' is " + std::to_string(t.width()) + " x " + std::to_string(t.height()) + " x " +
                std::to_string(t.channels());
-    const std::uint64_t n = static_cast<std::uint64_t>(t.width()) * static_cast<std::uint64_t>(t.height()) * static_cast<std::uint64_t>(t.channels());
+    const std::uint64_t n =
+        static_cast<std::uint64_t>(t.width()) * static_cast<std::uint64_t>(t.height()) * static_cast<std::uint64_t>(t.channels());
     if (t.bytes() != n * sizeof(float))
         return "texture '" + t.name() + "' holds " + std::to_string(t.bytes()) + " bytes, not width x height x channels floats";
     for (int y = 0; y < t.height(); ++y)

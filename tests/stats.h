@@ -133,20 +133,18 @@ inline double chiSquarePValue(double statistic, int dof) {
 
 /// Per-run significance for `runs` independent runs that together reject a correct sampler with
 /// probability familyAlpha (Sidak): 1 - (1 - familyAlpha)^(1/runs).
-inline double sidakAlpha(int runs, double familyAlpha = 0.01) {
-    return -std::expm1(std::log1p(-familyAlpha) / std::max(1, runs));
-}
+inline double sidakAlpha(int runs, double familyAlpha = 0.01) { return -std::expm1(std::log1p(-familyAlpha) / std::max(1, runs)); }
 
 struct ChiSquareOptions {
-    int thetaRes = 21;           ///< rows (must be odd: see the header comment)
-    int phiRes = 0;              ///< columns of equal azimuth; 0 means 2 * thetaRes
-    Vec3 axis{0, 0, 1};          ///< the grid's pole (the normal, or a lobe's axis)
-    double concentration = 0;    ///< rows equal in s = 1 - ((1+z)/2)^(c+1); 0: equal solid angles
-    double alpha = 0.01;         ///< significance of this run (sidakAlpha(runs) for several runs)
-    double minExpected = 5;      ///< pools reach this expected count (Cochran)
-    int minDof = 10;             ///< fewer degrees of freedom fail: the run would not test anything
-    double normTolerance = 1e-4; ///< |integral of pdf over the sphere - 1| allowed
-    double tolerance = 1e-11;    ///< absolute quadrature tolerance per sub-interval (probability units)
+    int thetaRes = 21;            ///< rows (must be odd: see the header comment)
+    int phiRes = 0;               ///< columns of equal azimuth; 0 means 2 * thetaRes
+    Vec3 axis{0, 0, 1};           ///< the grid's pole (the normal, or a lobe's axis)
+    double concentration = 0;     ///< rows equal in s = 1 - ((1+z)/2)^(c+1); 0: equal solid angles
+    double alpha = 0.01;          ///< significance of this run (sidakAlpha(runs) for several runs)
+    double minExpected = 5;       ///< pools reach this expected count (Cochran)
+    int minDof = 10;              ///< fewer degrees of freedom fail: the run would not test anything
+    double normTolerance = 1e-4;  ///< |integral of pdf over the sphere - 1| allowed
+    double tolerance = 1e-11;     ///< absolute quadrature tolerance per sub-interval (probability units)
 };
 
 struct ChiSquareResult {
@@ -156,22 +154,22 @@ struct ChiSquareResult {
     double pValue = 0;
     double alpha = 0;
     std::size_t samples = 0;
-    double pdfIntegral = 1;            ///< integral of the pdf over all cells (sphere tests), else 1
+    double pdfIntegral = 1;  ///< integral of the pdf over all cells (sphere tests), else 1
     double normTolerance = 0;
-    std::size_t badSamples = 0;        ///< not finite unit vectors
-    std::size_t zeroCellSamples = 0;   ///< samples in cells whose expected count is 0
-    int cells = 0, zeroCells = 0;      ///< cells, and cells with expectation 0 (their samples: above)
-    int pooledCells = 0, pools = 0;    ///< cells below minExpected merged, and the pools they made
-    std::string failure;               ///< why the run failed; empty when passed
-    std::string worst;                 ///< the counted cells that contribute most to the statistic
+    std::size_t badSamples = 0;       ///< not finite unit vectors
+    std::size_t zeroCellSamples = 0;  ///< samples in cells whose expected count is 0
+    int cells = 0, zeroCells = 0;     ///< cells, and cells with expectation 0 (their samples: above)
+    int pooledCells = 0, pools = 0;   ///< cells below minExpected merged, and the pools they made
+    std::string failure;              ///< why the run failed; empty when passed
+    std::string worst;                ///< the counted cells that contribute most to the statistic
 
     std::string describe() const {
         char buf[512];
         std::snprintf(buf, sizeof buf,
                       "%s: chi2 = %.2f, dof = %d, p = %.3g (alpha = %.3g); N = %zu, %d cells (%d with expectation 0 "
                       "holding %zu samples; %d pooled into %d)",
-                      passed ? "accepted" : "REJECTED", statistic, dof, pValue, alpha, samples, cells, zeroCells,
-                      zeroCellSamples, pooledCells, pools);
+                      passed ? "accepted" : "REJECTED", statistic, dof, pValue, alpha, samples, cells, zeroCells, zeroCellSamples,
+                      pooledCells, pools);
         std::string s = buf;
         if (normTolerance > 0) {
             std::snprintf(buf, sizeof buf, "; pdf integrates to %.8f (tolerance %.1e)", pdfIntegral, normTolerance);
@@ -185,9 +183,8 @@ struct ChiSquareResult {
 
 /// Pearson's test of observed counts against expected counts (same total) with the pooling and
 /// zero-cell rules of the header comment. cellName(i) names cell i in messages (optional).
-inline ChiSquareResult chiSquareCounts(const std::vector<double>& observed, const std::vector<double>& expected,
-                                       double alpha = 0.01, double minExpected = 5.0,
-                                       const std::function<std::string(std::size_t)>& cellName = {}) {
+inline ChiSquareResult chiSquareCounts(const std::vector<double>& observed, const std::vector<double>& expected, double alpha = 0.01,
+                                       double minExpected = 5.0, const std::function<std::string(std::size_t)>& cellName = {}) {
     ChiSquareResult r;
     r.alpha = alpha;
     r.cells = static_cast<int>(expected.size());
@@ -212,7 +209,8 @@ inline ChiSquareResult chiSquareCounts(const std::vector<double>& observed, cons
             if (observed[i] > 0) {
                 r.zeroCellSamples += static_cast<std::size_t>(observed[i]);
                 if (zeroMessage.size() < 400)
-                    zeroMessage += (zeroMessage.empty() ? "" : "; ") + name(i) + " holds " + std::to_string(static_cast<long long>(observed[i]));
+                    zeroMessage +=
+                        (zeroMessage.empty() ? "" : "; ") + name(i) + " holds " + std::to_string(static_cast<long long>(observed[i]));
             }
         }
     }
@@ -268,8 +266,7 @@ inline ChiSquareResult chiSquareCounts(const std::vector<double>& observed, cons
         const Term& t = terms[contributions[k].second];
         char buf[200];
         std::snprintf(buf, sizeof buf, "%s%s: observed %.0f, expected %.1f (+%.1f)", k ? "; " : "",
-                      t.cells > 1 ? ("pool of " + std::to_string(t.cells) + " cells from " + name(t.first)).c_str()
-                                  : name(t.first).c_str(),
+                      t.cells > 1 ? ("pool of " + std::to_string(t.cells) + " cells from " + name(t.first)).c_str() : name(t.first).c_str(),
                       t.obs, t.exp, contributions[k].first);
         r.worst += buf;
     }
@@ -290,8 +287,8 @@ namespace detail {
 /// Lyness's criterion |S2 - S1| <= 15 eps with Richardson extrapolation, as pbrt-v4's AdaptiveSimpson,
 /// but with an absolute eps that is not halved per level, so that a jump in f converges.
 template <class F>
-double simpsonLevel(const F& f, double a, double m, double c, double fa, double fm, double fc, double whole, double eps,
-                    int depth, int minDepth) {
+double simpsonLevel(const F& f, double a, double m, double c, double fa, double fm, double fc, double whole, double eps, int depth,
+                    int minDepth) {
     const double d = 0.5 * (a + m), e = 0.5 * (m + c);
     const double fd = f(d), fe = f(e);
     const double h = c - a;
@@ -316,8 +313,7 @@ double adaptiveSimpson(const F& f, double a, double c, double eps, int minDepth,
 /// comment). Construction integrates the density over every cell; test() bins a sample set and tests it.
 class SphereChiSquare {
 public:
-    SphereChiSquare(std::function<double(const Vec3&)> pdf, const ChiSquareOptions& opts = {})
-        : pdf_(std::move(pdf)), opts_(opts) {
+    SphereChiSquare(std::function<double(const Vec3&)> pdf, const ChiSquareOptions& opts = {}) : pdf_(std::move(pdf)), opts_(opts) {
         if (opts_.thetaRes < 1 || opts_.thetaRes % 2 == 0)
             throw std::invalid_argument("chi-square grid: thetaRes must be odd (the horizon inside a row), got " +
                                         std::to_string(opts_.thetaRes));
@@ -331,8 +327,7 @@ public:
         edges_.resize(rows_ + 1);
         for (int i = 0; i <= rows_; ++i) {
             const double s = static_cast<double>(i) / rows_;
-            edges_[i] = opts_.concentration == 0 ? 1.0 - 2.0 * s
-                                                 : 1.0 + 2.0 * std::expm1(std::log1p(-s) / (opts_.concentration + 1.0));
+            edges_[i] = opts_.concentration == 0 ? 1.0 - 2.0 * s : 1.0 + 2.0 * std::expm1(std::log1p(-s) / (opts_.concentration + 1.0));
         }
         edges_[0] = 1.0;
         edges_[rows_] = -1.0;
@@ -383,8 +378,8 @@ public:
     std::string cellName(std::size_t cell) const {
         const int i = static_cast<int>(cell) / cols_, j = static_cast<int>(cell) % cols_;
         char buf[160];
-        std::snprintf(buf, sizeof buf, "cell (row %d, col %d: cos %.4f..%.4f, phi %.1f..%.1f deg about the axis)", i, j,
-                      edges_[i + 1], edges_[i], j * dPhi_ * 180 / kPi, (j + 1) * dPhi_ * 180 / kPi);
+        std::snprintf(buf, sizeof buf, "cell (row %d, col %d: cos %.4f..%.4f, phi %.1f..%.1f deg about the axis)", i, j, edges_[i + 1],
+                      edges_[i], j * dPhi_ * 180 / kPi, (j + 1) * dPhi_ * 180 / kPi);
         return buf;
     }
 
@@ -416,7 +411,8 @@ public:
                 const int c = cellOf(w);
                 if (c < 0 || !recheck[c]) continue;
                 const double p = pdf_(w);
-                if (p > 0) positive[c] = 1;
+                if (p > 0)
+                    positive[c] = 1;
                 else if (zeroExample.empty())
                     zeroExample = "e.g. (" + std::to_string(w.x) + ", " + std::to_string(w.y) + ", " + std::to_string(w.z) +
                                   ") where pdf = " + std::to_string(p) + " in " + cellName(c);
@@ -430,22 +426,26 @@ public:
         std::vector<double> expected(prob.size());
         for (std::size_t c = 0; c < prob.size(); ++c) expected[c] = prob[c] * static_cast<double>(n);
 
-        ChiSquareResult r = chiSquareCounts(observed, expected, opts_.alpha, opts_.minExpected,
-                                            [this](std::size_t c) { return cellName(c); });
+        ChiSquareResult r =
+            chiSquareCounts(observed, expected, opts_.alpha, opts_.minExpected, [this](std::size_t c) { return cellName(c); });
         r.samples = n;
         r.badSamples = bad;
         r.pdfIntegral = total;
         r.normTolerance = opts_.normTolerance;
         std::string failure;
-        if (bad > 0) failure = std::to_string(bad) + " samples are not finite unit vectors, e.g. " + badExample;
-        else if (pdfInvalid()) failure = "the pdf is negative or not finite: " + invalid_;
+        if (bad > 0)
+            failure = std::to_string(bad) + " samples are not finite unit vectors, e.g. " + badExample;
+        else if (pdfInvalid())
+            failure = "the pdf is negative or not finite: " + invalid_;
         else if (!(std::abs(total - 1.0) <= opts_.normTolerance))
             failure = "the pdf integrates to " + std::to_string(total) + " over the sphere, not 1";
-        else if (r.zeroCellSamples > 0) failure = r.failure + (zeroExample.empty() ? "" : "; " + zeroExample);
+        else if (r.zeroCellSamples > 0)
+            failure = r.failure + (zeroExample.empty() ? "" : "; " + zeroExample);
         else if (r.dof < opts_.minDof)
             failure = "only " + std::to_string(r.dof) + " degrees of freedom (at least " + std::to_string(opts_.minDof) +
                       " wanted): a finer grid, more samples or a concentration";
-        else failure = r.failure;
+        else
+            failure = r.failure;
         r.failure = failure;
         r.passed = failure.empty();
         return r;

@@ -22,8 +22,7 @@ void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed) {
     for (std::size_t n : {1u, 2u, 15u, 16u, 17u, 24u, 32u, 33u, 40u}) {
         for (int trial = 0; trial < 20; ++trial) {
             // An origin inside the bounds, directions over the whole sphere (some leave the scene).
-            const Vec3 o(lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(),
-                         lo.z + (hi.z - lo.z) * rng.uniform());
+            const Vec3 o(lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(), lo.z + (hi.z - lo.z) * rng.uniform());
             std::vector<Vec3> dirs(n);
             for (Vec3& d : dirs) {  // uniform on the sphere, lengths 0.5 to 1.5 (directions need not be unit)
                 const double z = 1 - 2 * rng.uniform(), phi = kTwoPi * rng.uniform(), r = std::sqrt(1 - z * z);

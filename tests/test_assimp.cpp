@@ -9,11 +9,11 @@
 #include "io/input_error.h"
 #include "study/metrics.h"
 
-#include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
 
 #include <algorithm>
 #include <array>
@@ -77,7 +77,8 @@ TEST(Assimp, ExportedFormatsLoadWithTheObjGeometry) {
         double area = 0, area0 = 0;
         for (const Scene* sc : {&s, &obj})
             for (const Triangle& t : sc->triangles)
-                (sc == &s ? area : area0) += 0.5 * length(cross(sc->positions[t.v[1]] - sc->positions[t.v[0]], sc->positions[t.v[2]] - sc->positions[t.v[0]]));
+                (sc == &s ? area : area0) +=
+                    0.5 * length(cross(sc->positions[t.v[1]] - sc->positions[t.v[0]], sc->positions[t.v[2]] - sc->positions[t.v[0]]));
         EXPECT_NEAR(area, area0, 1e-6 * area0) << file << ": the surface area differs";
     }
 }
@@ -92,10 +93,12 @@ TEST(Assimp, JsonMeshRendersTheSameMeanRadianceAsTheObj) {
       "green": {"kd": [0.14, 0.45, 0.091], "ks": 0, "ns": 1, "ke": 0},
       "light": {"kd": 0, "ks": 0, "ns": 1, "ke": [17, 12, 4]}},
     "camera": {"position": [278, 273, -800], "target": [278, 273, 0], "up": [0, 1, 0], "fov": 39.3}, "environment": 0)";
-    const auto [mean0, se0] = test::imageMeanAndError(renderSmall(loadScene(std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-classic.json")));
+    const auto [mean0, se0] =
+        test::imageMeanAndError(renderSmall(loadScene(std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-classic.json")));
     for (const auto& [format, ext] : {std::pair{"glb2", "glb"}, std::pair{"collada", "dae"}}) {
         const std::string file = exportClassic(dir, format, ext);
-        const std::string json = dir.write(std::string("via-") + ext + ".json", std::string(R"({"mesh": "classic.)") + ext + R"(", )" + materials + "}");
+        const std::string json =
+            dir.write(std::string("via-") + ext + ".json", std::string(R"({"mesh": "classic.)") + ext + R"(", )" + materials + "}");
         const Scene s = loadScene(json);
         const auto [mean, se] = test::imageMeanAndError(renderSmall(s));
         EXPECT_LT(std::abs(mean - mean0), 4 * std::sqrt(se * se + se0 * se0)) << file << ": " << mean << " against the OBJ's " << mean0;
@@ -157,7 +160,8 @@ TEST(Assimp, BadFilesAreBadInput) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find(junk), std::string::npos) << e.what();
     }
-    const std::string empty = dir.write("empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
+    const std::string empty = dir.write(
+        "empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
     EXPECT_THROW(loadScene(empty), InputError);
     const std::string json = dir.write("bad.json", R"({"mesh": "model.xyz"})");
     try {
@@ -256,15 +260,18 @@ TEST(Assimp, AuthoredFbxRendersTheMeanOfItsObjTwin) {
     test::TempDir dir;
     dir.write("twin.mtl", "newmtl white\nKd 0.7 0.7 0.7\nKs 0.2 0.2 0.2\nNs 20\nnewmtl lamp\nKd 0 0 0\nKs 0 0 0\nNs 1\nKe 5 5 5\n");
     // Box (0,0,0)-(2,1,3), faces wound outwards; the top is the lamp.
-    dir.write("twin.obj", "mtllib twin.mtl\n"
-                          "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 3\nv 2 0 3\nv 2 1 3\nv 0 1 3\n"
-                          "usemtl white\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 1 5 8 4\n"
-                          "usemtl lamp\nf 4 8 7 3\n");
-    const std::string camera = R"("camera": {"position": [4.5, 3, 7], "target": [1, 0.5, 1.5], "up": [0, 1, 0], "fov": 40}, "environment": 0.3)";
+    dir.write("twin.obj",
+              "mtllib twin.mtl\n"
+              "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 3\nv 2 0 3\nv 2 1 3\nv 0 1 3\n"
+              "usemtl white\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 1 5 8 4\n"
+              "usemtl lamp\nf 4 8 7 3\n");
+    const std::string camera =
+        R"("camera": {"position": [4.5, 3, 7], "target": [1, 0.5, 1.5], "up": [0, 1, 0], "fov": 40}, "environment": 0.3)";
     const std::string fbx = std::string(SYMPHONG_SOURCE_DIR) + "/tests/data/fbx/box.fbx";
     const Scene a = loadScene(dir.write("fbx.json", "{\"mesh\": \"" + fbx + "\", " + camera + "}"));
-    const Scene b = loadScene(dir.write("obj.json", "{\"obj\": \"twin.obj\", " + camera +
-                                                        R"(, "lights": [{"type": "point", "position": [1, 2.5, 1.5], "intensity": [2.5, 2.25, 2.0]}]})"));
+    const Scene b = loadScene(
+        dir.write("obj.json", "{\"obj\": \"twin.obj\", " + camera +
+                                  R"(, "lights": [{"type": "point", "position": [1, 2.5, 1.5], "intensity": [2.5, 2.25, 2.0]}]})"));
     ASSERT_EQ(a.lights.size(), 1u);
     const auto [ma, sa] = test::imageMeanAndError(renderSmall(a));
     const auto [mb, sb] = test::imageMeanAndError(renderSmall(b));

@@ -60,7 +60,7 @@ double logPoisson(double x, int k) { return -x + k * std::log(x) - std::lgamma(k
 
 TEST(ChiSquareHelper, GammaQMatchesClosedForms) {
     for (double x : {0.01, 0.5, 1.0, 3.0, 10.0, 40.0}) {
-        EXPECT_NEAR(test::gammaQ(1.0, x), std::exp(-x), 1e-14 + 1e-12 * std::exp(-x)) << x;        // chi2, 2 dof
+        EXPECT_NEAR(test::gammaQ(1.0, x), std::exp(-x), 1e-14 + 1e-12 * std::exp(-x)) << x;                        // chi2, 2 dof
         EXPECT_NEAR(test::gammaQ(0.5, x), std::erfc(std::sqrt(x)), 1e-14 + 1e-10 * std::erfc(std::sqrt(x))) << x;  // 1 dof
     }
     // Integer a at the sizes of our grids (dof ~ 880): Q(a, x) = sum_{k<a} e^-x x^k / k!.
@@ -201,7 +201,8 @@ TEST(ChiSquareHelper, AcceptsCorrectSamplers) {
     for (double n : {10.0, 1000.0}) {
         const Lobe lobe{normalize(Vec3(0.3, -0.4, 0.8)), n};
         const auto dirs = draw(1000000, seed++, [&](Rng& r) { return lobe.sample(r.uniform2()); });
-        const auto r = test::chiSquareSphere(dirs, [&](const Vec3& w) { return lobe.pdf(w); }, lobeGrid(lobe.axis, n, alpha));
+        const auto r = test::chiSquareSphere(
+            dirs, [&](const Vec3& w) { return lobe.pdf(w); }, lobeGrid(lobe.axis, n, alpha));
         EXPECT_TRUE(r.passed) << "Phong n = " << n << ": " << r.describe();
         EXPECT_GT(r.dof, 400) << r.describe();
     }
@@ -217,8 +218,9 @@ TEST(ChiSquareHelper, RejectsCorrectSamplersAtTheNominalRate) {
     int allowed = 0;
     for (int k = 1; k <= kSeeds; ++k) {
         double tail = 0;
-        for (int j = k; j <= kSeeds; ++j) tail += std::exp(std::lgamma(kSeeds + 1.0) - std::lgamma(j + 1.0) - std::lgamma(kSeeds - j + 1.0) +
-                                                           j * std::log(kAlpha) + (kSeeds - j) * std::log1p(-kAlpha));
+        for (int j = k; j <= kSeeds; ++j)
+            tail += std::exp(std::lgamma(kSeeds + 1.0) - std::lgamma(j + 1.0) - std::lgamma(kSeeds - j + 1.0) + j * std::log(kAlpha) +
+                             (kSeeds - j) * std::log1p(-kAlpha));
         if (tail > 1e-4) allowed = k;
     }
     ASSERT_EQ(allowed, 3);
@@ -258,12 +260,13 @@ TEST(ChiSquareHelper, RejectsCorrectSamplersAtTheNominalRate) {
         EXPECT_LE(rejected, allowed) << c.name;
         const auto m = test::meanAndError(stats);
         if (std::getenv("SYMPHONG_CHI2_VERBOSE"))
-            std::printf("%s: %d of %d rejected; mean statistic %.1f +- %.1f, dof %d, spread %.1f (sqrt(2 dof) = %.1f)\n", c.name,
-                        rejected, kSeeds, m.mean, m.stdError, dof, m.stdError * std::sqrt(double(kSeeds)), std::sqrt(2.0 * dof));
+            std::printf("%s: %d of %d rejected; mean statistic %.1f +- %.1f, dof %d, spread %.1f (sqrt(2 dof) = %.1f)\n", c.name, rejected,
+                        kSeeds, m.mean, m.stdError, dof, m.stdError * std::sqrt(double(kSeeds)), std::sqrt(2.0 * dof));
         EXPECT_NEAR(m.mean, dof, 4 * m.stdError) << c.name << ": mean statistic over " << kSeeds << " seeds";
         // The spread is the chi-square's, sqrt(2 dof): the standard deviation of 20 values has a relative
         // standard error of 1/sqrt(2 x 19); 4 of them.
-        EXPECT_NEAR(m.stdError * std::sqrt(double(kSeeds)), std::sqrt(2.0 * dof), 4.0 / std::sqrt(2.0 * (kSeeds - 1)) * std::sqrt(2.0 * dof))
+        EXPECT_NEAR(m.stdError * std::sqrt(double(kSeeds)), std::sqrt(2.0 * dof),
+                    4.0 / std::sqrt(2.0 * (kSeeds - 1)) * std::sqrt(2.0 * dof))
             << c.name;
     }
 }
@@ -317,7 +320,8 @@ TEST(ChiSquareHelper, RejectsADensityOffByOnePercentOnHalfTheSphere) {
 TEST(ChiSquareHelper, RejectsPhongHundredAgainstHundredAndFive) {
     const Lobe sampled{normalize(Vec3(0.2, 0.3, 1)), 100.0}, claimed{sampled.axis, 105.0};
     const auto dirs = draw(1000000, 15, [&](Rng& r) { return sampled.sample(r.uniform2()); });
-    const auto r = test::chiSquareSphere(dirs, [&](const Vec3& w) { return claimed.pdf(w); }, lobeGrid(sampled.axis, 100.0));
+    const auto r = test::chiSquareSphere(
+        dirs, [&](const Vec3& w) { return claimed.pdf(w); }, lobeGrid(sampled.axis, 100.0));
     EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-7);
     EXPECT_FALSE(r.passed) << r.describe();
     EXPECT_LT(r.pValue, 1e-12) << r.describe();

@@ -66,10 +66,14 @@ TEST_F(Cli, InfoPrintsWhatWasLoaded) {
     EXPECT_NE(r.out.find("environment constant radiance (0, 0, 0)"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("warnings    0"), std::string::npos) << r.out;
     { std::ofstream(out("floor.obj")) << "v -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nf 1 2 3 4\n"; }
-    { std::ofstream(out("spot.json")) << R"({"obj": "floor.obj", "lights": [{"type": "spot", "position": [0, 1, 0], "target": [0, 0, 0], "intensity": 2, "angle": 40, "inner": 30}]})"; }
+    {
+        std::ofstream(out("spot.json"))
+            << R"({"obj": "floor.obj", "lights": [{"type": "spot", "position": [0, 1, 0], "target": [0, 0, 0], "intensity": 2, "angle": 40, "inner": 30}]})";
+    }
     const CliRun spot = runArgs({"info", out("spot.json")});
     ASSERT_EQ(spot.code, 0) << spot.err;
-    EXPECT_NE(spot.out.find("  spot        position (0, 1, 0), direction (0, -1, 0), intensity (2, 2, 2), cone 30 to 40 degrees"), std::string::npos)
+    EXPECT_NE(spot.out.find("  spot        position (0, 1, 0), direction (0, -1, 0), intensity (2, 2, 2), cone 30 to 40 degrees"),
+              std::string::npos)
         << spot.out;
     const CliRun bare = runArgs({"info", out("floor.obj")});
     ASSERT_EQ(bare.code, 0) << bare.err;
@@ -121,10 +125,10 @@ TEST_F(Cli, BadArgumentsAreRejected) {
 TEST_F(Cli, BadScenesAreRejected) {
     expectBadInput({"render", out("missing.obj"), "-o", out("a.png")}, "missing.obj: no such file");
     expectBadInput({"render", "scene.blend", "-o", out("a.png")}, "unknown scene");
-    expectBadInput({"render", write("bad.json", "{\"builtin\": \"cornell\", \"materials\": {\"white\": {\"ns\": -2}}}"), "-o", out("a.png")},
-                   "negative");
-    expectBadInput({"render", write("nan.json", "{\"builtin\": \"cornell\", \"environment\": NaN}"), "-o", out("a.png")},
-                   "malformed JSON");
+    expectBadInput(
+        {"render", write("bad.json", "{\"builtin\": \"cornell\", \"materials\": {\"white\": {\"ns\": -2}}}"), "-o", out("a.png")},
+        "negative");
+    expectBadInput({"render", write("nan.json", "{\"builtin\": \"cornell\", \"environment\": NaN}"), "-o", out("a.png")}, "malformed JSON");
 }
 
 TEST_F(Cli, EveryMalformedObjExitsTwoAndWritesNothing) {
@@ -144,8 +148,9 @@ TEST_F(Cli, EveryMalformedObjExitsTwoAndWritesNothing) {
 TEST_F(Cli, MalformedJsonNamesTheLineOrTheElement) {
     expectBadInput({"render", write("syntax.json", "{\n  \"builtin\": \"cornell\",\n  \"environment\": 0.5,,\n}\n"), "-o", out("a.png")},
                    "syntax.json:3:");
-    expectBadInput({"render", write("neg.json", "{\"builtin\": \"cornell\", \"materials\": {\"white\": {\"ns\": -2}}}"), "-o", out("a.png")},
-                   "materials.white.ns");
+    expectBadInput(
+        {"render", write("neg.json", "{\"builtin\": \"cornell\", \"materials\": {\"white\": {\"ns\": -2}}}"), "-o", out("a.png")},
+        "materials.white.ns");
 }
 
 TEST_F(Cli, AFailedRunLeavesAnExistingOutputUntouched) {
@@ -165,12 +170,9 @@ TEST_F(Cli, UnwritableOutputIsAnErrorBeforeRendering) {
 TEST_F(Cli, RendersEverySharedSceneThatIsNotMalformed) {
     SYMPHONG_REQUIRE_SCENES_DIR();
     const std::vector<std::pair<std::string, std::string>> scenes = {
-        {"cornell-box-mcguire/CornellBox-Original.obj", ""},
-        {"cornell-box-mcguire/CornellBox-Glossy.obj", "'sphere'"},
-        {"cornell-box-mcguire/CornellBox-Sphere.obj", ""},
-        {"cornell-box-original/cornell_box.obj", "no light of any kind"},
-        {"lenient/missing_material_file.obj", "undefined material"},
-        {"bunny/stanford-bunny.obj", "default sky"},
+        {"cornell-box-mcguire/CornellBox-Original.obj", ""},         {"cornell-box-mcguire/CornellBox-Glossy.obj", "'sphere'"},
+        {"cornell-box-mcguire/CornellBox-Sphere.obj", ""},           {"cornell-box-original/cornell_box.obj", "no light of any kind"},
+        {"lenient/missing_material_file.obj", "undefined material"}, {"bunny/stanford-bunny.obj", "default sky"},
     };
     for (const auto& [rel, warning] : scenes) {
         const std::string png = out(fs::path(rel).stem().string() + ".png");
@@ -185,7 +187,8 @@ TEST_F(Cli, RendersEverySharedSceneThatIsNotMalformed) {
 
 TEST_F(Cli, RendersWithTheSymmetricEstimators) {
     for (const char* e : {"symmetric", "symmetric-shifted", "paper"}) {
-        const CliRun r = runArgs({"render", "-e", e, "--symmetric-n", "2", "--spp", "1", "-W", "8", "-H", "8", "-o", out(std::string(e) + ".png")});
+        const CliRun r =
+            runArgs({"render", "-e", e, "--symmetric-n", "2", "--spp", "1", "-W", "8", "-H", "8", "-o", out(std::string(e) + ".png")});
         EXPECT_EQ(r.code, 0) << e << ": " << r.err;
     }
     expectBadInput({"render", "-e", "symmetric", "--symmetric-n", "0", "-o", out("a.png")}, "--symmetric-n");
@@ -242,13 +245,15 @@ TEST_F(Cli, SamplerOptions) {
     for (const char* sampler : {"independent", "stratified", "sobol"}) {
         for (const char* threads : {"1", "3"}) {
             const std::string file = out(std::string(sampler) + threads + ".exr");
-            const CliRun r = runArgs({"render", "--sampler", sampler, "--threads", threads, "--seed", "9", "-W", "20", "-H", "18", "-s", "3",
-                                      "-e", "symmetric", "--symmetric-mode", "spread", "-o", file});
+            const CliRun r = runArgs({"render", "--sampler", sampler, "--threads", threads, "--seed", "9", "-W", "20", "-H", "18", "-s",
+                                      "3", "-e", "symmetric", "--symmetric-mode", "spread", "-o", file});
             ASSERT_EQ(r.code, 0) << r.err;
             EXPECT_NE(r.out.find(std::string("sampler ") + sampler), std::string::npos) << r.out;
             const std::string bytes = readTextFile(file);
-            if (std::string(threads) == "1") first = bytes;
-            else EXPECT_EQ(first, bytes) << sampler << ": --threads 3 must give the bytes of --threads 1";
+            if (std::string(threads) == "1")
+                first = bytes;
+            else
+                EXPECT_EQ(first, bytes) << sampler << ": --threads 3 must give the bytes of --threads 1";
         }
     }
     // `stratified` is cosine under the stratified sampler, whatever --sampler says.

@@ -43,7 +43,8 @@ double polygonIrradiance(const std::vector<Vec3>& polygon, const Vec3& p, const 
 ///   F = 1/(2 pi) [x/sqrt(1+x^2) atan(y/sqrt(1+x^2)) + y/sqrt(1+y^2) atan(x/sqrt(1+y^2))], x = X/h, y = Y/h.
 double cornerRectangleFormFactor(double X, double Y, double h) {
     const double x = X / h, y = Y / h;
-    return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) + y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
+    return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
+            y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
            (2 * kPiD);
 }
 
@@ -157,7 +158,8 @@ TEST(LambertFormula, DirectLightOnAPlaneMatchesRegionByRegion) {
         const Accel accel(scene);
         std::vector<std::optional<double>> exact(kSize * kSize);
         for (int y = 0; y < kSize; ++y)
-            for (int x = 0; x < kSize; ++x) exact[static_cast<std::size_t>(y * kSize + x)] = exactPixel(scene, kSize, kSize, x, y, occluded);
+            for (int x = 0; x < kSize; ++x)
+                exact[static_cast<std::size_t>(y * kSize + x)] = exactPixel(scene, kSize, kSize, x, y, occluded);
         for (const char* estimator : {"cosine", "phong", "uniform"})
             for (bool nee : {true, false}) {
                 const auto est = makeEstimator(estimator);
@@ -203,15 +205,17 @@ TEST(LambertFormula, DirectLightOnAPlaneMatchesRegionByRegion) {
                         ASSERT_GT(expected, 0);
                         EXPECT_LT(se, 0.05 * expected) << "the test must be able to see a few-percent error";
                         EXPECT_LT(std::abs(mean - expected), 4 * se)
-                            << estimator << (nee ? " with" : " without") << " light sampling" << (occluded ? ", occluded" : "") << ": region at ("
-                            << bx << ", " << by << ") renders " << mean << " +- " << se << ", Lambert's formula gives " << expected;
+                            << estimator << (nee ? " with" : " without") << " light sampling" << (occluded ? ", occluded" : "")
+                            << ": region at (" << bx << ", " << by << ") renders " << mean << " +- " << se << ", Lambert's formula gives "
+                            << expected;
                         worstRelError = std::max(worstRelError, std::abs(mean - expected) / expected);
                     }
                 EXPECT_GE(regions, occluded ? 25 : 35) << "most of the image is lit floor";
                 if (occluded) {
                     EXPECT_GE(penumbra, 3) << "some regions must be in the penumbra, where the clipping matters";
                 }
-                RecordProperty(std::string(estimator) + (nee ? "_nee" : "_bsdf") + (occluded ? "_occluded" : ""), std::to_string(worstRelError));
+                RecordProperty(std::string(estimator) + (nee ? "_nee" : "_bsdf") + (occluded ? "_occluded" : ""),
+                               std::to_string(worstRelError));
             }
     }
 }
@@ -262,50 +266,50 @@ TEST(LambertFormula, GrazingLightOnAWallUnderTheEmitter) {
             brightest = std::max(brightest, sum / (kSub * kSub));
         }
     for (const auto& [estimator, nee] : {std::pair{"cosine", true}, std::pair{"phong", true}, std::pair{"cosine", false}}) {
-            const auto est = makeEstimator(estimator);
-            RenderSettings rs;
-            rs.width = rs.height = kSize;
-            rs.spp = nee ? 4096 : 16384;  // enough for a 1% error in the grazing rows to stand out
-            rs.seed = 23;
-            rs.sampler = "independent";
-            rs.trace.maxDepth = 1;
-            rs.trace.nextEvent = nee;
-            const RenderResult r = render(s, accel, *est, rs);
-            int regions = 0, grazing = 0;
-            std::array<double, kSize / kBlock> rowSum{}, rowWant{}, rowVar{};
-            for (int by = 0; by < kSize; by += kBlock)
-                for (int bx = 0; bx < kSize; bx += kBlock) {
-                    double sum = 0, want = 0, var = 0;
-                    bool usable = true;
-                    for (int y = by; y < by + kBlock; ++y)
-                        for (int x = bx; x < bx + kBlock; ++x) {
-                            const auto& e = exact[static_cast<std::size_t>(y * kSize + x)];
-                            usable = usable && e.has_value();
-                            if (!e) continue;
-                            want += *e, sum += r.image.at(x, y).x, var += r.variance.at(x, y).x;
-                        }
-                    const double n = kBlock * kBlock, mean = sum / n, expected = want / n, se = std::sqrt(var) / n;
-                    if (!usable || expected < 0.05 * brightest) continue;
-                    ++regions;
-                    // The rows where the emitter is seen nearly edge-on: the wall within 0.15 below its plane.
-                    Vec3 o, d;
-                    cameraRay(s.camera, kSize, kSize, bx + kBlock / 2.0, by + kBlock / 2.0, o, d);
-                    grazing += (o + d * ((kWallZ - o.z) / d.z)).y > kEmitterY - 0.15;
-                    rowSum[by / kBlock] += sum, rowWant[by / kBlock] += want, rowVar[by / kBlock] += var;
-                    EXPECT_LT(se, 0.01 * expected);
-                    EXPECT_LT(std::abs(mean - expected), 4 * se)
-                        << estimator << (nee ? " with" : " without") << " light sampling: region at (" << bx << ", " << by << ") renders "
-                        << mean << " +- " << se << ", Lambert's formula gives " << expected;
-                }
-            // Each row of regions as a whole (its standard error a third of a region's): a 1% error
-            // confined to the rows lit at grazing angles fails here (checked by mutation).
-            for (std::size_t row = 0; row < rowSum.size(); ++row) {
-                if (rowWant[row] <= 0) continue;
-                EXPECT_LT(std::abs(rowSum[row] - rowWant[row]), 4 * std::sqrt(rowVar[row]))
-                    << estimator << (nee ? " with" : " without") << " light sampling: row of regions " << row << " renders "
-                    << rowSum[row] << " +- " << std::sqrt(rowVar[row]) << " in all, Lambert's formula gives " << rowWant[row];
+        const auto est = makeEstimator(estimator);
+        RenderSettings rs;
+        rs.width = rs.height = kSize;
+        rs.spp = nee ? 4096 : 16384;  // enough for a 1% error in the grazing rows to stand out
+        rs.seed = 23;
+        rs.sampler = "independent";
+        rs.trace.maxDepth = 1;
+        rs.trace.nextEvent = nee;
+        const RenderResult r = render(s, accel, *est, rs);
+        int regions = 0, grazing = 0;
+        std::array<double, kSize / kBlock> rowSum{}, rowWant{}, rowVar{};
+        for (int by = 0; by < kSize; by += kBlock)
+            for (int bx = 0; bx < kSize; bx += kBlock) {
+                double sum = 0, want = 0, var = 0;
+                bool usable = true;
+                for (int y = by; y < by + kBlock; ++y)
+                    for (int x = bx; x < bx + kBlock; ++x) {
+                        const auto& e = exact[static_cast<std::size_t>(y * kSize + x)];
+                        usable = usable && e.has_value();
+                        if (!e) continue;
+                        want += *e, sum += r.image.at(x, y).x, var += r.variance.at(x, y).x;
+                    }
+                const double n = kBlock * kBlock, mean = sum / n, expected = want / n, se = std::sqrt(var) / n;
+                if (!usable || expected < 0.05 * brightest) continue;
+                ++regions;
+                // The rows where the emitter is seen nearly edge-on: the wall within 0.15 below its plane.
+                Vec3 o, d;
+                cameraRay(s.camera, kSize, kSize, bx + kBlock / 2.0, by + kBlock / 2.0, o, d);
+                grazing += (o + d * ((kWallZ - o.z) / d.z)).y > kEmitterY - 0.15;
+                rowSum[by / kBlock] += sum, rowWant[by / kBlock] += want, rowVar[by / kBlock] += var;
+                EXPECT_LT(se, 0.01 * expected);
+                EXPECT_LT(std::abs(mean - expected), 4 * se)
+                    << estimator << (nee ? " with" : " without") << " light sampling: region at (" << bx << ", " << by << ") renders "
+                    << mean << " +- " << se << ", Lambert's formula gives " << expected;
             }
-            EXPECT_GE(regions, 30);
-            EXPECT_GE(grazing, 10) << "the test must cover the rows lit at grazing angles";
+        // Each row of regions as a whole (its standard error a third of a region's): a 1% error
+        // confined to the rows lit at grazing angles fails here (checked by mutation).
+        for (std::size_t row = 0; row < rowSum.size(); ++row) {
+            if (rowWant[row] <= 0) continue;
+            EXPECT_LT(std::abs(rowSum[row] - rowWant[row]), 4 * std::sqrt(rowVar[row]))
+                << estimator << (nee ? " with" : " without") << " light sampling: row of regions " << row << " renders " << rowSum[row]
+                << " +- " << std::sqrt(rowVar[row]) << " in all, Lambert's formula gives " << rowWant[row];
         }
+        EXPECT_GE(regions, 30);
+        EXPECT_GE(grazing, 10) << "the test must cover the rows lit at grazing angles";
+    }
 }

@@ -30,7 +30,8 @@ Texture variedImage(int w, int h) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c)
-                t[static_cast<std::size_t>((y * w + x) * 3 + c)] = static_cast<float>(0.2 + 0.15 * std::sin(0.7 * x + c) + 0.1 * y + (x == 3 && y == 2 ? 20 : 0));
+                t[static_cast<std::size_t>((y * w + x) * 3 + c)] =
+                    static_cast<float>(0.2 + 0.15 * std::sin(0.7 * x + c) + 0.1 * y + (x == 3 && y == 2 ? 20 : 0));
     return Texture("varied", w, h, 3, std::move(t));
 }
 
@@ -48,16 +49,15 @@ Scene floorWithBlock() {
     s.materials = {floor, block};
     test::addQuad(s, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}, 0);
     const double h = 0.8;
-    test::addQuad(s, {-0.5, h, 0.5}, {0.5, h, 0.5}, {0.5, h, -0.5}, {-0.5, h, -0.5}, 1);   // top
-    test::addQuad(s, {-0.5, 0, 0.5}, {0.5, 0, 0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}, 1);     // front
-    test::addQuad(s, {0.5, 0, 0.5}, {0.5, 0, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, 1);     // right
-    test::addQuad(s, {-0.5, 0, -0.5}, {-0.5, 0, 0.5}, {-0.5, h, 0.5}, {-0.5, h, -0.5}, 1); // left
+    test::addQuad(s, {-0.5, h, 0.5}, {0.5, h, 0.5}, {0.5, h, -0.5}, {-0.5, h, -0.5}, 1);    // top
+    test::addQuad(s, {-0.5, 0, 0.5}, {0.5, 0, 0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}, 1);      // front
+    test::addQuad(s, {0.5, 0, 0.5}, {0.5, 0, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, 1);      // right
+    test::addQuad(s, {-0.5, 0, -0.5}, {-0.5, 0, 0.5}, {-0.5, h, 0.5}, {-0.5, h, -0.5}, 1);  // left
     s.camera.position = Vec3(1.5, 2.5, 3.5);
     s.camera.target = Vec3(0, 0.2, 0);
     s.camera.fovY = 45;
     return s;
 }
-
 
 }  // namespace
 

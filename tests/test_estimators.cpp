@@ -3,8 +3,8 @@
 // estimator's mean must match it within 4 standard errors, for diffuse and glossy Phong materials
 // and view angles up to 85 degrees. Also: the weights and MIS densities estimators report agree.
 #include "estimators/estimator.h"
-#include "sampling/warp.h"
 #include "sample_util.h"
+#include "sampling/warp.h"
 #include "stats.h"
 
 #include <gtest/gtest.h>
@@ -215,7 +215,8 @@ TEST(EstimatorDensities, OneDirectionFollowsTheReportedMisPdf) {
             const double omitted = 1.0 - static_cast<double>(dirs.size()) / kDraws;
             EXPECT_NEAR(omitted, 1.0 - mass, 4 * std::sqrt(std::max(mass * (1 - mass), 1.0 / kDraws) / kDraws))
                 << name << " theta " << deg << ": omitted " << omitted << ", misPdf's mass below the horizon " << 1 - mass;
-            const auto r = test::chiSquareSphere(dirs, [&](const Vec3& w) { return upper(w) / mass; }, opts);
+            const auto r = test::chiSquareSphere(
+                dirs, [&](const Vec3& w) { return upper(w) / mass; }, opts);
             EXPECT_TRUE(r.passed) << name << " theta " << deg << ": " << r.describe();
         }
     }

@@ -61,11 +61,16 @@ std::string verdict(const Input& in) {
     const fs::path dir = scratchDir("regression");
     try {
         std::string problemText;
-        if (in.target == "fuzz_obj") problemText = problem(loadObjInput(dir, bytes));
-        else if (in.target == "fuzz_json") problemText = problem(loadJsonInput(dir, bytes));
-        else if (in.target == "fuzz_assimp") problemText = problem(loadAssimpInput(dir, bytes));
-        else if (in.target == "fuzz_texture") problemText = problem(decodeTextureInput(bytes));
-        else return "unknown target " + in.target;
+        if (in.target == "fuzz_obj")
+            problemText = problem(loadObjInput(dir, bytes));
+        else if (in.target == "fuzz_json")
+            problemText = problem(loadJsonInput(dir, bytes));
+        else if (in.target == "fuzz_assimp")
+            problemText = problem(loadAssimpInput(dir, bytes));
+        else if (in.target == "fuzz_texture")
+            problemText = problem(decodeTextureInput(bytes));
+        else
+            return "unknown target " + in.target;
         return problemText.empty() ? "" : "accepted, but breaks the loader's promise: " + problemText;
     } catch (const symphong::InputError&) {
         return "";  // the expected rejection

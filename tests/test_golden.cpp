@@ -12,15 +12,15 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fmt/format.h>
 #include <fstream>
 #include <iterator>
-#include <unistd.h>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -118,25 +118,24 @@ TEST_P(Golden, SameImageAsBefore) {
         }
     }
     if (cpuSignature() == storedSignature()) {
-        EXPECT_EQ(differing, 0u) << c.name << ": " << differing << " channel values differ from tests/golden/images/"
-                                 << c.name << ".exr (largest relative difference " << worst << ")";
+        EXPECT_EQ(differing, 0u) << c.name << ": " << differing << " channel values differ from tests/golden/images/" << c.name
+                                 << ".exr (largest relative difference " << worst << ")";
         return;
     }
     const auto [gm, ge] = meanAndError(got);
     const auto [wm, we] = meanAndError(want);
     EXPECT_LE(std::abs(gm - wm), 4 * std::hypot(ge, we))
-        << c.name << ": mean " << gm << " vs stored " << wm << " (this CPU's signature '" << cpuSignature()
-        << "' differs from the stored '" << storedSignature() << "', so only the mean is compared)";
+        << c.name << ": mean " << gm << " vs stored " << wm << " (this CPU's signature '" << cpuSignature() << "' differs from the stored '"
+        << storedSignature() << "', so only the mean is compared)";
     if (differing) std::cout << c.name << ": not bit-identical on this CPU (" << differing << " values differ)\n";
 }
 
-INSTANTIATE_TEST_SUITE_P(Renders, Golden, testing::ValuesIn(readCases()),
-                         [](const testing::TestParamInfo<GoldenCase>& info) {
-                             std::string n = info.param.name;
-                             for (char& ch : n)
-                                 if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                             return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Renders, Golden, testing::ValuesIn(readCases()), [](const testing::TestParamInfo<GoldenCase>& info) {
+    std::string n = info.param.name;
+    for (char& ch : n)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    return n;
+});
 
 TEST(GoldenCases, EveryCaseHasItsImage) {
     const auto cases = readCases();

@@ -7,11 +7,11 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
-#include <csignal>
-#include <filesystem>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <csignal>
+#include <filesystem>
 
 using namespace symphong;
 namespace fs = std::filesystem;
@@ -78,7 +78,11 @@ TEST(Exr, FloatRoundTripIsExactAndHalfIsClose) {
 TEST(Exr, ReadingAMissingOrBrokenFileIsAnInputError) {
     EXPECT_THROW(readExr("/nonexistent.exr"), InputError);
     const auto p = tmp("broken.exr");
-    { std::FILE* f = std::fopen(p.string().c_str(), "wb"); std::fputs("not an exr", f); std::fclose(f); }
+    {
+        std::FILE* f = std::fopen(p.string().c_str(), "wb");
+        std::fputs("not an exr", f);
+        std::fclose(f);
+    }
     EXPECT_THROW(readExr(p.string()), InputError);
     fs::remove(p);
 }
@@ -99,7 +103,11 @@ TEST(AtomicWrite, AFailedImageWriteLeavesTheTargetUntouched) {
         fs::remove_all(dir);
         fs::create_directories(dir);
         const fs::path target = dir / (std::string("image") + ext);
-        { std::FILE* f = std::fopen(target.string().c_str(), "wb"); std::fputs("previous contents", f); std::fclose(f); }
+        {
+            std::FILE* f = std::fopen(target.string().c_str(), "wb");
+            std::fputs("previous contents", f);
+            std::fclose(f);
+        }
         // A noisy image far larger than the limit once encoded.
         Image big(256, 256);
         std::uint32_t state = 12345;

@@ -214,7 +214,8 @@ TEST(Lights, JsonLightsLoadAndRender) {
 TEST(Lights, OnlyALightAndNoEmissiveTriangleIsNoFallback) {
     test::TempDir dir;
     dir.write("floor.obj", "v -5 0 -5\nv -5 0 5\nv 5 0 5\nv 5 0 -5\nf 1 2 3 4\n");
-    const Scene s = loadScene(dir.write("p.json", R"({"obj": "floor.obj", "lights": [{"type": "point", "position": [0, 1, 0], "intensity": 1}]})"));
+    const Scene s =
+        loadScene(dir.write("p.json", R"({"obj": "floor.obj", "lights": [{"type": "point", "position": [0, 1, 0], "intensity": 1}]})"));
     EXPECT_EQ(s.environment, Color(0.0));
     EXPECT_TRUE(s.warnings.empty());
 }
@@ -288,7 +289,8 @@ TEST(Lights, LightsAddUp) {
         const auto [s, es] = mean(onlySun, nee);
         const double se = std::sqrt(ea * ea + eq * eq + ep * ep + es * es);
         EXPECT_GT(q, 0.005) << "the quad lights the floor";
-        EXPECT_LT(std::abs(a - (q + p + s)), 4 * se) << (nee ? "with" : "without") << " NEE: all " << a << " vs the sum " << q + p + s << " +- " << se;
+        EXPECT_LT(std::abs(a - (q + p + s)), 4 * se)
+            << (nee ? "with" : "without") << " NEE: all " << a << " vs the sum " << q + p + s << " +- " << se;
         EXPECT_LT(se, 0.01 * a);
     }
 }

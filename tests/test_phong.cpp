@@ -20,9 +20,7 @@ PhongMaterial glossy(double kd, double ks, double n) {
     return m;
 }
 
-Vec3 dirAt(double thetaDeg, double phiDeg) {
-    return sphericalDirection(std::cos(thetaDeg * kPi / 180), phiDeg * kPi / 180);
-}
+Vec3 dirAt(double thetaDeg, double phiDeg) { return sphericalDirection(std::cos(thetaDeg * kPi / 180), phiDeg * kPi / 180); }
 
 }  // namespace
 

@@ -55,8 +55,9 @@ TEST(EstimatorTable, ParametersAreCheckedByTheEstimatorsThatReadThem) {
         makeEstimator("bogus");
         FAIL();
     } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(),
-                     "unknown estimator 'bogus' (valid: uniform, cosine, stratified, phong, paper, symmetric, symmetric-shifted, symmetric-mix)");
+        EXPECT_STREQ(
+            e.what(),
+            "unknown estimator 'bogus' (valid: uniform, cosine, stratified, phong, paper, symmetric, symmetric-shifted, symmetric-mix)");
     }
 }
 

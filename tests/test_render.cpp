@@ -2,8 +2,8 @@
 // all estimators on a 32x32 Cornell box within statistics, light sampling vs none (MIS is unbiased),
 // and bit-for-bit determinism across thread counts.
 #include "scene/scene.h"
-#include "study/metrics.h"
 #include "stats.h"
+#include "study/metrics.h"
 #include "test_util.h"
 
 #include <fmt/format.h>
@@ -53,9 +53,11 @@ TEST(Furnace, ClosedSphereGivesLeOverOneMinusAlbedo) {
             const auto m = test::meanAndError(means);
             const double t = std::abs(m.mean - exact) / std::max(m.stdError, 1e-12);
             // A zero-variance estimator (symmetric on a diffuse furnace) must be exact to round-off.
-            if (m.stdError < 1e-12) EXPECT_NEAR(m.mean, exact, 1e-9) << name;
-            else EXPECT_LT(t, studentCritical(kRepeats - 1)) << name << (nee ? " with" : " without") << " light sampling: "
-                                                               << m.mean << " against " << exact;
+            if (m.stdError < 1e-12)
+                EXPECT_NEAR(m.mean, exact, 1e-9) << name;
+            else
+                EXPECT_LT(t, studentCritical(kRepeats - 1))
+                    << name << (nee ? " with" : " without") << " light sampling: " << m.mean << " against " << exact;
         }
 }
 
@@ -192,7 +194,8 @@ TEST_F(CornellAgreement, SymmetricMixSplittingAndTheFirstBounceOptionsKeepTheMea
         trace.firstHitSplit = c.split;
         trace.jointFirstBounce = c.joint;
         trace.firstBounceStream = c.stream;
-        const std::uint32_t spp = std::max<std::uint32_t>(8, kSpp / static_cast<std::uint32_t>(c.split * (est->returnsSets() ? c.orbit : 1)));
+        const std::uint32_t spp =
+            std::max<std::uint32_t>(8, kSpp / static_cast<std::uint32_t>(c.split * (est->returnsSets() ? c.orbit : 1)));
         std::string where;
         const double t = against(*est, spp, 31, where, 1.0, true, trace);
         std::printf("%s vs phong: largest |t| = %.2f (%s), critical %.2f\n", c.what, t, where.c_str(), critical());
@@ -265,7 +268,8 @@ TEST(Determinism, SameSeedSameImageAtAnyThreadCountForEverySampler) {
         for (const std::string& sampler : samplers) {
             if (!est->requiredSampler().empty() && sampler != samplers.front()) continue;
             for (bool nee : {true, false}) {
-                const std::string what = fmt::format("{} ({}) under {}, NEE {}", name, symmetricModeName(options.symmetricMode), sampler, nee);
+                const std::string what =
+                    fmt::format("{} ({}) under {}, NEE {}", name, symmetricModeName(options.symmetricMode), sampler, nee);
                 const RenderResult one = renderWith(scene, accel, *est, sampler, 40, 3, 5, 1, nee);
                 for (int threads : {2, 7}) {
                     const RenderResult many = renderWith(scene, accel, *est, sampler, 40, 3, 5, threads, nee);
@@ -280,7 +284,6 @@ TEST(Determinism, SameSeedSameImageAtAnyThreadCountForEverySampler) {
         }
     }
 }
-
 
 // Item 6: the mean image of every sampler agrees with `independent` (phong), and spread mode with
 // branch mode and with phong; error bars from 12 repeats each (Welch t, 22 degrees of freedom, critical
@@ -322,7 +325,8 @@ TEST(Render, NoPixelIsNaNOnAnyBundledScene) {
         if (e.path().extension() == ".json" && (e.path().filename() != "mcguire-glossy.json" || !test::scenesDir().empty()))
             scenes.push_back(e.path().string());
     if (!test::scenesDir().empty())
-        for (const char* rel : {"cornell-box-mcguire/CornellBox-Sphere.obj", "cornell-box-original/cornell_box.obj", "bunny/stanford-bunny.obj"})
+        for (const char* rel :
+             {"cornell-box-mcguire/CornellBox-Sphere.obj", "cornell-box-original/cornell_box.obj", "bunny/stanford-bunny.obj"})
             scenes.push_back(test::scenesDir() + "/" + rel);
     EXPECT_GE(scenes.size(), 6u);
     for (const std::string& spec : scenes) {
@@ -361,7 +365,8 @@ TEST(Render, SplittingAndFirstBounceStreamsDoWhatTheySay) {
     const RenderResult d = renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, false, noRoulette2);
     // Depth 1, no NEE: camera rays plus one ray per first-hit direction (two when split), none dropped
     // below the surface more often than the other by more than a few percent.
-    const double extraUnsplit = static_cast<double>(c.stats.rays - c.stats.samples), extraSplit = static_cast<double>(d.stats.rays - d.stats.samples);
+    const double extraUnsplit = static_cast<double>(c.stats.rays - c.stats.samples),
+                 extraSplit = static_cast<double>(d.stats.rays - d.stats.samples);
     EXPECT_NEAR(extraSplit / extraUnsplit, 2.0, 0.1);
     stream.firstBounceStream = 0;
     EXPECT_TRUE(sameBits(a.image, renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, stream).image));
@@ -435,8 +440,10 @@ TEST(Render, CancellingAfterKTilesStopsThere) {
                 drawn += any;
             }
         EXPECT_EQ(drawn, tiles.load()) << "every finished tile is drawn, no other";
-        if (threads == 1) EXPECT_EQ(drawn, 3);
-        else EXPECT_LE(drawn, 3 + threads - 1);
+        if (threads == 1)
+            EXPECT_EQ(drawn, 3);
+        else
+            EXPECT_LE(drawn, 3 + threads - 1);
     }
 }
 
@@ -480,8 +487,10 @@ TEST(Emitters, EmitFromTheirFrontSideOnly) {
         // floor below it (facing), or wound the other way round so that both see its back.
         Scene s = emitterScene();
         const Vec3 a(-1, -0.2, -2.6), b(1, -0.2, -2.6), c(1, 1, -2), d(-1, 1, -2);  // normal (0, -0.45, 0.89)
-        if (facing) addQuad(s, a, b, c, d, 0);
-        else addQuad(s, a, d, c, b, 0);  // the same square wound the other way: normal away from camera and floor
+        if (facing)
+            addQuad(s, a, b, c, d, 0);
+        else
+            addQuad(s, a, d, c, b, 0);  // the same square wound the other way: normal away from camera and floor
         // The floor, normal +y, ends in front of the light (z >= -2): all of it sees the light's back
         // when the light is turned away (beyond the light, in -z, the floor would see its front).
         addQuad(s, Vec3(-5, -1, 1), Vec3(5, -1, 1), Vec3(5, -1, -2), Vec3(-5, -1, -2), 1);
@@ -509,8 +518,10 @@ TEST(Emitters, EmitFromTheirFrontSideOnly) {
 TEST(Camera, ImageEdgesLandOnPixelEdges) {
     for (bool vertical : {false, true}) {
         Scene s = emitterScene();
-        if (!vertical) addQuad(s, Vec3(-10, -10, -1), Vec3(0, -10, -1), Vec3(0, 10, -1), Vec3(-10, 10, -1), 0);  // x < 0
-        else addQuad(s, Vec3(-10, 0, -1), Vec3(10, 0, -1), Vec3(10, 10, -1), Vec3(-10, 10, -1), 0);          // y > 0: top
+        if (!vertical)
+            addQuad(s, Vec3(-10, -10, -1), Vec3(0, -10, -1), Vec3(0, 10, -1), Vec3(-10, 10, -1), 0);  // x < 0
+        else
+            addQuad(s, Vec3(-10, 0, -1), Vec3(10, 0, -1), Vec3(10, 10, -1), Vec3(-10, 10, -1), 0);  // y > 0: top
         for (const char* sampler : {"independent", "sobol"}) {
             const auto est = makeEstimator("cosine");
             RenderSettings rs;
@@ -524,8 +535,8 @@ TEST(Camera, ImageEdgesLandOnPixelEdges) {
             for (int y = 0; y < rs.height; ++y)
                 for (int x = 0; x < rs.width; ++x) {
                     const bool lit = vertical ? y < rs.height / 2 : x < rs.width / 2;
-                    EXPECT_EQ(r.image.at(x, y).x, lit ? 1.0 : 0.0) << sampler << (vertical ? " top half" : " left half") << ": pixel (" << x
-                                                                   << ", " << y << ")";
+                    EXPECT_EQ(r.image.at(x, y).x, lit ? 1.0 : 0.0)
+                        << sampler << (vertical ? " top half" : " left half") << ": pixel (" << x << ", " << y << ")";
                 }
         }
     }

@@ -120,9 +120,9 @@ std::string netFailure(const std::vector<FixedPoint>& pts) {
         }
         for (std::size_t c = 0; c < cells; ++c)
             if (count[c] != per)
-                return "N = " + std::to_string(n) + ", shape 2^-" + std::to_string(p) + " x 2^-" + std::to_string(q) +
-                       ", cell (" + std::to_string(c >> q) + ", " + std::to_string(c & ((std::size_t{1} << q) - 1)) +
-                       ") holds " + std::to_string(count[c]) + " points instead of " + std::to_string(per);
+                return "N = " + std::to_string(n) + ", shape 2^-" + std::to_string(p) + " x 2^-" + std::to_string(q) + ", cell (" +
+                       std::to_string(c >> q) + ", " + std::to_string(c & ((std::size_t{1} << q) - 1)) + ") holds " +
+                       std::to_string(count[c]) + " points instead of " + std::to_string(per);
     }
     return "";
 }
@@ -135,8 +135,8 @@ std::string strataFailure(const std::vector<std::uint32_t>& xs) {
     for (std::uint32_t x : xs) ++count[std::uint64_t{x} >> (32 - t)];
     for (std::size_t j = 0; j < count.size(); ++j)
         if (count[j] != (n >> t))
-            return "N = " + std::to_string(n) + ", stratum " + std::to_string(j) + " of " + std::to_string(count.size()) +
-                   " holds " + std::to_string(count[j]);
+            return "N = " + std::to_string(n) + ", stratum " + std::to_string(j) + " of " + std::to_string(count.size()) + " holds " +
+                   std::to_string(count[j]);
     return "";
 }
 
@@ -280,8 +280,8 @@ TEST(LowDiscrepancy, NetCheckerRejectsBrokenPairs) {
         const std::uint32_t n = 1u << k;
         std::vector<FixedPoint> diagonal(n), shifted(n), scrambledDiagonal(n), notNested(n);
         for (std::uint32_t i = 0; i < n; ++i) {
-            diagonal[i] = {sobolDimension0(i), sobolDimension0(i)};                       // dimension 1 replaced by 0
-            shifted[i] = {sobolDimension0(i), sobolDimension1(i) >> 1};                   // y's bits shifted
+            diagonal[i] = {sobolDimension0(i), sobolDimension0(i)};      // dimension 1 replaced by 0
+            shifted[i] = {sobolDimension0(i), sobolDimension1(i) >> 1};  // y's bits shifted
             scrambledDiagonal[i] = {owenScramble(sobolDimension0(i), 3u), owenScramble(sobolDimension0(i), 4u)};
             notNested[i] = {sobolDimension0(i) ^ (hash32(i) & 0xC0000000u), sobolDimension1(i)};  // top digits randomised
         }
@@ -332,7 +332,8 @@ TEST(LowDiscrepancy, PermutePowerOfTwoIsAPermutation) {
         return permutePowerOfTwo(i, static_cast<std::uint32_t>(std::countr_zero(n)), s);
     };
     for (std::uint32_t k = 0; k <= 14; ++k)
-        for (std::uint32_t seed : permutationSeeds()) EXPECT_EQ(permutationFailure(pow2, 1u << k, seed), "") << "k = " << k << ", seed 0x" << std::hex << seed;
+        for (std::uint32_t seed : permutationSeeds())
+            EXPECT_EQ(permutationFailure(pow2, 1u << k, seed), "") << "k = " << k << ", seed 0x" << std::hex << seed;
 }
 
 TEST(LowDiscrepancy, PermutationsAreRandomOverSeeds) {
@@ -353,8 +354,8 @@ TEST(LowDiscrepancy, PermutationsAreRandomOverSeeds) {
     // 5 and 24 (chi2 56, 77); the samplers use permuteAny (GF(2^k) affine maps, cycle-walked).
     const Permutation any = [](std::uint32_t i, std::uint32_t n, std::uint32_t s) { return permuteAny(i, n, s); };
     (void)kensler;
-    const std::vector<Case> cases = {{"permuteAny", 5, any},      {"permuteAny", 24, any},      {"permuteAny", 100, any},
-                                     {"permutePowerOfTwo", 4, pow2},   {"permutePowerOfTwo", 16, pow2},   {"permutePowerOfTwo", 64, pow2}};
+    const std::vector<Case> cases = {{"permuteAny", 5, any},         {"permuteAny", 24, any},         {"permuteAny", 100, any},
+                                     {"permutePowerOfTwo", 4, pow2}, {"permutePowerOfTwo", 16, pow2}, {"permutePowerOfTwo", 64, pow2}};
     const int runs = 2 * static_cast<int>(cases.size());
     Rng rng(3, 4);
     for (const Case& c : cases) {
@@ -751,7 +752,8 @@ TEST(Samplers, DifferentDimensionsAreIndependentWithinAPixel) {
         for (const auto& sampler : allSamplers(spp, 987654321))
             for (const SourcePair& pair : pairs) {
                 const auto [r, r2] = withinPixels(*sampler, pair.a, pair.b, pixels);
-                EXPECT_LE(std::abs(r.mean), 4 * r.stdError) << sampler->name() << ", spp " << spp << ", " << pair.name << ": mean within-pixel r";
+                EXPECT_LE(std::abs(r.mean), 4 * r.stdError)
+                    << sampler->name() << ", spp " << spp << ", " << pair.name << ": mean within-pixel r";
                 EXPECT_LE(std::abs(r2.mean - 1.0 / (spp - 1)), 4 * r2.stdError)
                     << sampler->name() << ", spp " << spp << ", " << pair.name << ": mean within-pixel r^2 = " << r2.mean << " +- "
                     << r2.stdError << ", expected " << 1.0 / (spp - 1);
@@ -812,7 +814,8 @@ TEST(Samplers, ValuesArePureFunctionsOfSeedPixelIndexDimension) {
         const auto a = makeSampler(name, 16, 42), b = makeSampler(name, 16, 42);
         for (std::uint64_t pixel : {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{99}, std::uint64_t{1} << 30, kFarDim + 5})
             for (std::uint32_t i : {0u, 7u, 15u})
-                for (std::uint64_t dim : {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{2}, std::uint64_t{5}, std::uint64_t{100}, kFarDim + 1}) {
+                for (std::uint64_t dim :
+                     {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{2}, std::uint64_t{5}, std::uint64_t{100}, kFarDim + 1}) {
                     const double v = a->sample1D(pixel, i, dim);
                     EXPECT_TRUE(sameBits(v, a->sample1D(pixel, i, dim))) << name;
                     EXPECT_TRUE(sameBits(v, b->sample1D(pixel, i, dim))) << name;
@@ -841,8 +844,8 @@ TEST(IndependentSampler, PairStartsWithItsOneDimension) {
                 const double u = sampler.sample1D(pixel, i, dim), v = sampler.sample1D(pixel, i, dim + 1);
                 if (!sameBits(p.u, u) || sameBits(p.v, v)) {
                     if (++mismatches <= 3)
-                        ADD_FAILURE() << "pixel " << pixel << ", sample " << i << ", dim " << dim << ": sample2D = (" << p.u << ", "
-                                      << p.v << "), (sample1D(dim), sample1D(dim+1)) = (" << u << ", " << v << "): u must equal, v must differ";
+                        ADD_FAILURE() << "pixel " << pixel << ", sample " << i << ", dim " << dim << ": sample2D = (" << p.u << ", " << p.v
+                                      << "), (sample1D(dim), sample1D(dim+1)) = (" << u << ", " << v << "): u must equal, v must differ";
                 }
             }
     EXPECT_EQ(mismatches, 0);
@@ -860,12 +863,14 @@ TEST(Samplers, SeedsPixelsAndDimensionsChangeTheValues) {
                     for (std::uint64_t dim : {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{4}, std::uint64_t{33}, kFarDim}) {
                         const double v = a->sample1D(pixel, i, dim);
                         const Point2 p = a->sample2D(pixel, i, dim);
-                        sameSeed += (v == b->sample1D(pixel, i, dim)) + (p.u == b->sample2D(pixel, i, dim).u) + (p.v == b->sample2D(pixel, i, dim).v);
+                        sameSeed += (v == b->sample1D(pixel, i, dim)) + (p.u == b->sample2D(pixel, i, dim).u) +
+                                    (p.v == b->sample2D(pixel, i, dim).v);
                         samePixel += (v == a->sample1D(pixel + 1000, i, dim)) + (p.u == a->sample2D(pixel + 1000, i, dim).u);
                         sameDim += (v == a->sample1D(pixel, i, dim + 2)) + (p.u == a->sample2D(pixel, i, dim + 2).u);
                         ++compared;
                     }
-            EXPECT_LE(sameSeed, 2) << name << ", spp " << spp << ": " << sameSeed << " of " << 3 * compared << " values equal under seeds 42 and 43";
+            EXPECT_LE(sameSeed, 2) << name << ", spp " << spp << ": " << sameSeed << " of " << 3 * compared
+                                   << " values equal under seeds 42 and 43";
             EXPECT_LE(samePixel, 2) << name << ", spp " << spp << ": pixels p and p + 1000";
             EXPECT_LE(sameDim, 2) << name << ", spp " << spp << ": dimensions d and d + 2";
         }
@@ -974,7 +979,8 @@ TEST(SampleStream, PatternEntriesFillEachRound) {
                     const std::uint32_t e = st.patternEntry(entries);
                     EXPECT_EQ(st.dimension(), 13u);
                     ASSERT_LT(e, entries);
-                    EXPECT_TRUE(rounds[i / entries].insert(e).second) << sampler->name() << ", entries " << entries << ", pixel " << pixel << ", sample " << i;
+                    EXPECT_TRUE(rounds[i / entries].insert(e).second)
+                        << sampler->name() << ", entries " << entries << ", pixel " << pixel << ", sample " << i;
                 }
             }
             std::vector<double> counts(entries, 0.0);

@@ -30,7 +30,6 @@ std::string errorOf(const std::string& spec) {
     return "";
 }
 
-
 }  // namespace
 
 TEST(CornellBuiltin, HasTheOriginalGeometryAndAGlossyTallBlock) {
@@ -182,8 +181,9 @@ TEST(JsonScenes, BuiltinWithOverridesAndCamera) {
 TEST(JsonScenes, ObjRelativeToTheJsonFile) {
     SYMPHONG_REQUIRE_SCENES_DIR();
     test::TempDir dir;
-    const std::string path = dir.write("bunny.json", R"({"obj": ")" + scene("bunny/stanford-bunny.obj") +
-                                                         R"(", "environment": [0.5, 0.6, 0.7], "camera": {"position": [0, 0.1, 0.4], "target": [0, 0.1, 0]}})");
+    const std::string path =
+        dir.write("bunny.json", R"({"obj": ")" + scene("bunny/stanford-bunny.obj") +
+                                    R"(", "environment": [0.5, 0.6, 0.7], "camera": {"position": [0, 0.1, 0.4], "target": [0, 0.1, 0]}})");
     const Scene s = loadScene(path);
     EXPECT_EQ(s.environment, Color(0.5, 0.6, 0.7));
     EXPECT_FALSE(anyWarningContains(s, "no light of any kind")) << "an explicit environment is not a fallback";

@@ -102,7 +102,8 @@ TEST(Schema, CommandLineOptionsParseAndCheckAsTheSchemaSays) {
     CLI::App app;
     RenderOptions o;
     addSchemaOptions(&app, o, renderSchema());
-    std::vector<std::string> args{"--spp", "12", "-W", "7", "--no-nee", "--symmetric-mode", "spread", "--sampler", "independent", "scene.json"};
+    std::vector<std::string> args{"--spp",  "12",        "-W",          "7",         "--no-nee", "--symmetric-mode",
+                                  "spread", "--sampler", "independent", "scene.json"};
     std::reverse(args.begin(), args.end());  // CLI11 takes a vector in reverse order
     app.parse(args);
     EXPECT_EQ(o.spp, 12u);
@@ -112,8 +113,11 @@ TEST(Schema, CommandLineOptionsParseAndCheckAsTheSchemaSays) {
     EXPECT_EQ(o.estimatorOptions.symmetricMode, SymmetricMode::Spread);
     EXPECT_EQ(o.sampler, "independent");
     EXPECT_EQ(o.scene, "scene.json");
-    for (const std::vector<std::string>& bad : {std::vector<std::string>{"--spp", "0"}, {"--symmetric-orbit", "3"}, {"--sampler", "halton"},
-                                                {"--symmetric-mode", "x"}, {"--exposure", "-1"}}) {
+    for (const std::vector<std::string>& bad : {std::vector<std::string>{"--spp", "0"},
+                                                {"--symmetric-orbit", "3"},
+                                                {"--sampler", "halton"},
+                                                {"--symmetric-mode", "x"},
+                                                {"--exposure", "-1"}}) {
         CLI::App again;
         RenderOptions r;
         addSchemaOptions(&again, r, renderSchema());

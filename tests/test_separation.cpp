@@ -185,22 +185,21 @@ TEST(CorrectedMaps, DensitiesIntegrateToOne) {
     EXPECT_NEAR(test::integrateSphereAdaptive(piecePdf(PieceKind::Quadrangle), pieceGrid()), 1.0, 1e-7);
     for (double n : {0.0, 1.0, 10.0, 100.0, 1000.0})
         EXPECT_NEAR(test::integrateSphereAdaptive(
-                        [n](const Vec3& w) { return inPiece(w, PieceKind::Triangle, 0) ? lobeTriangleDensity(w, n) : 0.0; },
-                        pieceGrid(n)),
+                        [n](const Vec3& w) { return inPiece(w, PieceKind::Triangle, 0) ? lobeTriangleDensity(w, n) : 0.0; }, pieceGrid(n)),
                     1.0, 1e-7)
             << "n = " << n;
 }
 
 TEST(CorrectedMaps, TriangleMapFitsItsDensity) {
-    expectFits("triangle map", draw(triangleMap, 5),
-               [](const Vec3& w) { return inPiece(w, PieceKind::Triangle, 0) ? pieceDensity(PieceKind::Triangle, w) : 0.0; },
-               pieceGrid(), 1);
+    expectFits(
+        "triangle map", draw(triangleMap, 5),
+        [](const Vec3& w) { return inPiece(w, PieceKind::Triangle, 0) ? pieceDensity(PieceKind::Triangle, w) : 0.0; }, pieceGrid(), 1);
 }
 
 TEST(CorrectedMaps, QuadrangleMapFitsItsDensity) {
-    expectFits("quadrangle map", draw(quadrangleMap, 6),
-               [](const Vec3& w) { return inPiece(w, PieceKind::Quadrangle, 0) ? pieceDensity(PieceKind::Quadrangle, w) : 0.0; },
-               pieceGrid(), 1);
+    expectFits(
+        "quadrangle map", draw(quadrangleMap, 6),
+        [](const Vec3& w) { return inPiece(w, PieceKind::Quadrangle, 0) ? pieceDensity(PieceKind::Quadrangle, w) : 0.0; }, pieceGrid(), 1);
 }
 
 // The 16 pieces through the signed permutations (the symmetric twins): piece chosen uniformly, its map,
@@ -225,9 +224,10 @@ TEST(CorrectedMaps, LobeTriangleMapFitsItsDensity) {
     const std::vector<double> exponents = {1.0, 10.0, 100.0, 1000.0};
     std::uint64_t seed = 70;
     for (double n : exponents)
-        expectFits("lobe triangle n = " + std::to_string(static_cast<int>(n)), draw([n](Point2 p) { return lobeTriangleMap(p, n); }, seed++),
-                   [n](const Vec3& w) { return inPiece(w, PieceKind::Triangle, 0) ? lobeTriangleDensity(w, n) : 0.0; },
-                   pieceGrid(n), static_cast<int>(exponents.size()));
+        expectFits(
+            "lobe triangle n = " + std::to_string(static_cast<int>(n)), draw([n](Point2 p) { return lobeTriangleMap(p, n); }, seed++),
+            [n](const Vec3& w) { return inPiece(w, PieceKind::Triangle, 0) ? lobeTriangleDensity(w, n) : 0.0; }, pieceGrid(n),
+            static_cast<int>(exponents.size()));
 }
 
 namespace {
@@ -274,8 +274,9 @@ TEST(CorrectedMaps, RotatedLobeTrianglesFitTheirDensityAtSeveralOutgoingDirectio
             const RotatedLobeTriangles set{LobeFrame::fromMirror(mirror), n, n};
             char what[80];
             std::snprintf(what, sizeof what, "theta_o = %g deg, phi_o = %g, n = %g", o.thetaDeg, o.phi, n);
-            expectFits(what, draw3([&](Point2 p, double u) { return set.sample(p, u); }, seed++),
-                       [&](const Vec3& w) { return set.pdf(w); }, lobeGrid(mirror, n), runs);
+            expectFits(
+                what, draw3([&](Point2 p, double u) { return set.sample(p, u); }, seed++), [&](const Vec3& w) { return set.pdf(w); },
+                lobeGrid(mirror, n), runs);
         }
 }
 
@@ -283,17 +284,18 @@ TEST(CorrectedMaps, RotatedLobeTrianglesFitTheirDensityAtSeveralOutgoingDirectio
 TEST(CorrectedMaps, RotatedLobeTrianglesTestRejectsAWrongExponent) {
     const Vec3 wo = sphericalDirection(std::cos(kPi / 3), 1.1), mirror(-wo.x, -wo.y, wo.z);
     const RotatedLobeTriangles set{LobeFrame::fromMirror(mirror), 10.0, 10.5};
-    const auto r = test::chiSquareSphere(draw3([&](Point2 p, double u) { return set.sample(p, u); }, 899),
-                                         [&](const Vec3& w) { return set.pdf(w); }, lobeGrid(mirror, 10.0));
+    const auto r = test::chiSquareSphere(
+        draw3([&](Point2 p, double u) { return set.sample(p, u); }, 899), [&](const Vec3& w) { return set.pdf(w); },
+        lobeGrid(mirror, 10.0));
     EXPECT_FALSE(r.passed) << r.describe();
     EXPECT_LT(r.pValue, 1e-12) << r.describe();
 }
 
 TEST(CorrectedMaps, ChiSquareRejectsThePapersTriangleMapAgainstOurDensity) {
     // The paper's triangle map is a bijection onto T_0 but not uniform in projected solid angle.
-    const auto r = test::chiSquareSphere(draw(paperTriangleMap, 9), [](const Vec3& w) {
-        return inPiece(w, PieceKind::Triangle, 0) ? pieceDensity(PieceKind::Triangle, w) : 0.0;
-    }, pieceGrid());
+    const auto r = test::chiSquareSphere(
+        draw(paperTriangleMap, 9),
+        [](const Vec3& w) { return inPiece(w, PieceKind::Triangle, 0) ? pieceDensity(PieceKind::Triangle, w) : 0.0; }, pieceGrid());
     EXPECT_FALSE(r.passed) << r.describe();
     EXPECT_LT(r.pValue, 1e-6) << r.describe();
 }
@@ -420,7 +422,8 @@ TEST(PaperErrata, RotatedDomainDipsBelowTheHorizonPastFortyFiveDegrees) {
         const LobeFrame f = LobeFrame::fromMirror(Vec3(0, -std::sin(t), std::cos(t)));
         double minZ = 1;
         for (int i = 0; i <= 200; ++i)  // the face's boundary, all four edges
-            for (const Vec3 p : {Vec3(-1 + i / 100.0, 1, 1), Vec3(-1 + i / 100.0, -1, 1), Vec3(1, -1 + i / 100.0, 1), Vec3(-1, -1 + i / 100.0, 1)})
+            for (const Vec3 p :
+                 {Vec3(-1 + i / 100.0, 1, 1), Vec3(-1 + i / 100.0, -1, 1), Vec3(1, -1 + i / 100.0, 1), Vec3(-1, -1 + i / 100.0, 1)})
                 minZ = std::min(minZ, f.toLocal(normalize(p)).z);
         return minZ;
     };

@@ -189,10 +189,17 @@ TEST(StudyVariants, SplitsAddVariantsOfTheSplitEstimatorsOnly) {
     std::vector<std::string> labels;
     for (const StudyVariant& v : studyVariants(c)) {
         labels.push_back(v.label);
-        EXPECT_EQ(v.split, v.label.find("+split") == std::string::npos ? 1 : std::stoi(v.label.substr(v.label.find("+split") + 6))) << v.label;
+        EXPECT_EQ(v.split, v.label.find("+split") == std::string::npos ? 1 : std::stoi(v.label.substr(v.label.find("+split") + 6)))
+            << v.label;
     }
-    const std::vector<std::string> expected = {"cosine", "phong", "phong+split2", "phong+split4", "symmetric-mix",
-                                               "symmetric-mix+spread", "symmetric-mix+spread+split2", "symmetric-mix+spread+split4"};
+    const std::vector<std::string> expected = {"cosine",
+                                               "phong",
+                                               "phong+split2",
+                                               "phong+split4",
+                                               "symmetric-mix",
+                                               "symmetric-mix+spread",
+                                               "symmetric-mix+spread+split2",
+                                               "symmetric-mix+spread+split4"};
     EXPECT_EQ(labels, expected);
 }
 
@@ -231,8 +238,8 @@ TEST_F(TinyStudy, JsonHasConfigRowsSummaryAndConclusion) {
     for (const char* key : {"config", "rows", "summary", "conclusion"}) EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["rows"].size(), 8u);
     EXPECT_EQ(j["summary"].size(), 4u);
-    for (const char* key : {"estimator", "variant", "sampler", "mode", "spp", "repeat", "seconds", "rays", "rmse", "relmse", "mse", "efficiency",
-                            "group_relative_bias", "group_bias_std_error", "group_bias_significant", "group_pixel_variance"})
+    for (const char* key : {"estimator", "variant", "sampler", "mode", "spp", "repeat", "seconds", "rays", "rmse", "relmse", "mse",
+                            "efficiency", "group_relative_bias", "group_bias_std_error", "group_bias_significant", "group_pixel_variance"})
         EXPECT_TRUE(j["rows"][0].contains(key)) << key;
     for (const char* key : {"estimator", "spp", "seconds", "rmse", "rmse_spread", "efficiency", "relative_bias", "bias_significant"})
         EXPECT_TRUE(j["summary"][0].contains(key)) << key;
@@ -251,7 +258,7 @@ TEST(StudyVariants, SamplersAndModesMakeVariants) {
     std::vector<std::string> labels;
     for (const StudyVariant& v : studyVariants(c)) labels.push_back(v.label);
     EXPECT_EQ(labels, (std::vector<std::string>{"cosine@independent", "cosine@sobol", "stratified", "symmetric@independent",
-                                                 "symmetric@sobol", "symmetric+spread@independent", "symmetric+spread@sobol"}));
+                                                "symmetric@sobol", "symmetric+spread@independent", "symmetric+spread@sobol"}));
     const fs::path dir = fs::temp_directory_path() / ("symphong-study-variants-" + std::to_string(::getpid()));
     fs::remove_all(dir);
     c.outDir = dir.string();
@@ -280,7 +287,8 @@ TEST_F(TinyStudy, WritesTheReportHeatmapsAndRenders) {
     EXPECT_NE(report.find("## Conclusion"), std::string::npos);
     EXPECT_NE(report.find("## Equal time"), std::string::npos);
     EXPECT_NE(report.find("| paper | 64 |"), std::string::npos) << report;
-    for (const char* f : {"reference.exr", "reference.json", "reference.png", "renders/cosine.png", "renders/paper.png", "heatmaps/cosine.f32"})
+    for (const char* f :
+         {"reference.exr", "reference.json", "reference.png", "renders/cosine.png", "renders/paper.png", "heatmaps/cosine.f32"})
         EXPECT_GT(fs::file_size(*dir_ / f), 0u) << f;
     EXPECT_EQ(fs::file_size(*dir_ / "heatmaps/paper.f32"), 16u * 16u * sizeof(float));
 }

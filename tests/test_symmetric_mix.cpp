@@ -6,9 +6,9 @@
 // most cosine's, which is zero). Fixed seeds; statistical tolerances from the estimators' own errors.
 #include "estimators/basic.h"
 #include "estimators/symmetric_mix.h"
+#include "sample_util.h"
 #include "sampling/separation.h"
 #include "sampling/warp.h"
-#include "sample_util.h"
 #include "stats.h"
 #include "study/furnace.h"
 #include "study/metrics.h"
@@ -76,7 +76,8 @@ TEST(SymmetricMixMaps, WedgesCoverTheWholeLobe) {
         test::ChiSquareOptions o;
         o.concentration = n;
         o.alpha = test::sidakAlpha(static_cast<int>(ns.size()));
-        const auto r = test::chiSquareSphere(dirs, [n](const Vec3& w) { return phongLobePdf(w.z, n); }, o);
+        const auto r = test::chiSquareSphere(
+            dirs, [n](const Vec3& w) { return phongLobePdf(w.z, n); }, o);
         EXPECT_TRUE(r.passed) << "n " << n << ": " << r.describe();
     }
 }
@@ -90,7 +91,8 @@ TEST(SymmetricMixMaps, MixtureDensityIntegratesToOne) {
             test::ChiSquareOptions o;
             o.axis = Vec3(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
             o.concentration = m.exponent;
-            const double total = test::integrateSphereAdaptive([&](const Vec3& w) { return SymmetricMixEstimator::directionDensity(ctx, w); }, o);
+            const double total =
+                test::integrateSphereAdaptive([&](const Vec3& w) { return SymmetricMixEstimator::directionDensity(ctx, w); }, o);
             EXPECT_NEAR(total, 1.0, 2e-3) << "kd " << m.rhoD.x << " ks " << m.rhoS.x << " n " << m.exponent << " theta " << deg;
         }
 }
@@ -142,7 +144,8 @@ TEST(SymmetricMixDensity, EveryCopyFollowsTheMixtureForEveryMaterialClass) {
             opts.axis = Vec3(-wo.x, -wo.y, wo.z);
             opts.concentration = run.n;
         }
-        const auto r = test::chiSquareSphere(dirs, [&](const Vec3& w) { return SymmetricMixEstimator::directionDensity(ctx, w); }, opts);
+        const auto r = test::chiSquareSphere(
+            dirs, [&](const Vec3& w) { return SymmetricMixEstimator::directionDensity(ctx, w); }, opts);
         EXPECT_TRUE(r.passed) << run.c.name << " n " << run.n << " orbit " << run.orbit << ": " << r.describe();
     }
 }
@@ -180,8 +183,10 @@ TEST(SymmetricMixDensity, SpreadModeFirstHitFollowsItsMisPdf) {
             const auto upper = [&](const Vec3& w) { return w.z > 0 ? est->misPdf(ctx, w) : 0.0; };
             const double mass = test::integrateSphereAdaptive(upper, opts);
             const double omitted = 1.0 - static_cast<double>(dirs.size()) / kDraws;
-            EXPECT_NEAR(omitted, 1.0 - mass, 4 * std::sqrt(std::max(mass * (1 - mass), 1.0 / kDraws) / kDraws)) << c.name << " theta " << deg;
-            const auto r = test::chiSquareSphere(dirs, [&](const Vec3& w) { return upper(w) / mass; }, opts);
+            EXPECT_NEAR(omitted, 1.0 - mass, 4 * std::sqrt(std::max(mass * (1 - mass), 1.0 / kDraws) / kDraws))
+                << c.name << " theta " << deg;
+            const auto r = test::chiSquareSphere(
+                dirs, [&](const Vec3& w) { return upper(w) / mass; }, opts);
             EXPECT_TRUE(r.passed) << c.name << " theta " << deg << ": " << r.describe();
         }
 }

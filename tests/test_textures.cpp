@@ -12,11 +12,11 @@
 #include "scene/surface.h"
 #include "texture/texture_io.h"
 
-#include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
 
 #include <cmath>
 #include <cstring>
@@ -48,8 +48,8 @@ double linear8(unsigned char v) { return srgbToLinear(v / 255.0); }
 /// A unit square in the z = 0 plane facing +z with uvs 0..1, filling exactly the view of a camera at
 /// z = d with a 40 degree field of view (so each pixel sees an equal share of the texture).
 std::string squareObj(const test::TempDir& dir, const std::string& mtl, const std::string& material) {
-    return dir.write("square.obj", "mtllib " + mtl + "\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl " + material +
-                                       "\nf 1/1 2/2 3/3 4/4\n");
+    return dir.write("square.obj", "mtllib " + mtl + "\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl " +
+                                       material + "\nf 1/1 2/2 3/3 4/4\n");
 }
 
 std::string squareJson(const test::TempDir& dir, const std::string& mesh, const std::string& environment) {
@@ -57,7 +57,6 @@ std::string squareJson(const test::TempDir& dir, const std::string& mesh, const 
     return dir.write("square.json", "{\"mesh\": \"" + mesh + "\", \"camera\": {\"position\": [0, 0, " + std::to_string(d) +
                                         "], \"target\": [0, 0, 0], \"fov\": 40}, \"environment\": " + environment + "}");
 }
-
 
 }  // namespace
 
@@ -228,7 +227,8 @@ TEST(TexturedRender, MissingTextureIsAWarningAndTheConstantIsUsed) {
     const Scene s = loadScene(squareJson(dir, "square.obj", "1"));
     EXPECT_TRUE(s.textures.empty());
     bool warned = false;
-    for (const auto& w : s.warnings) warned = warned || (w.find("nowhere.png") != std::string::npos && w.find("m.mtl:3") != std::string::npos);
+    for (const auto& w : s.warnings)
+        warned = warned || (w.find("nowhere.png") != std::string::npos && w.find("m.mtl:3") != std::string::npos);
     EXPECT_TRUE(warned) << "no warning naming the texture and its MTL line";
     // Maps symphong does not have (bump, normal) are ignored with a warning, not silently.
     dir.write("b.mtl", "newmtl m\nKd 0.25 0.25 0.25\nbump bumps.png\n");
@@ -277,7 +277,8 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
         static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
         std::string out;
         for (std::size_t i = 0; i < in.size(); i += 3) {
-            const unsigned n = (static_cast<unsigned char>(in[i]) << 16) | (i + 1 < in.size() ? static_cast<unsigned char>(in[i + 1]) << 8 : 0) |
+            const unsigned n = (static_cast<unsigned char>(in[i]) << 16) |
+                               (i + 1 < in.size() ? static_cast<unsigned char>(in[i + 1]) << 8 : 0) |
                                (i + 2 < in.size() ? static_cast<unsigned char>(in[i + 2]) : 0);
             out += t[(n >> 18) & 63];
             out += t[(n >> 12) & 63];
@@ -286,7 +287,8 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
         }
         return out;
     };
-    for (const std::string& image : {std::string("checker.png"), "data:image/png;base64," + base64(readTextFile(dir.file("checker.png")))}) {
+    for (const std::string& image :
+         {std::string("checker.png"), "data:image/png;base64," + base64(readTextFile(dir.file("checker.png")))}) {
         dir.write("square.gltf", R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
   "materials": [{"name": "checker", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0, "roughnessFactor": 1}}],
@@ -321,9 +323,11 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
   "materials": [{"name": "checker", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0, "roughnessFactor": 1}}],
   "textures": [{"source": 0}], "images": [{"bufferView": 3, "mimeType": "image/png"}],
-  "buffers": [{"byteLength": )" + std::to_string(body.size()) + R"(}],
+  "buffers": [{"byteLength": )" +
+                       std::to_string(body.size()) + R"(}],
   "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 32}, {"buffer": 0, "byteOffset": 80, "byteLength": 12},
-                  {"buffer": 0, "byteOffset": 92, "byteLength": )" + std::to_string(png.size()) + R"(}],
+                  {"buffer": 0, "byteOffset": 92, "byteLength": )" +
+                       std::to_string(png.size()) + R"(}],
   "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
                 {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
                 {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]})";
@@ -346,10 +350,12 @@ TEST(TexturedRender, CutOutEmitterLightsAsMuchThroughLightSamplingAsThroughPaths
     test::TempDir dir;
     writeChecker(dir.file("mask.png"), 64, 4, 255, 0, 2);
     dir.write("m.mtl", "newmtl floor\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 4 4 4\nmap_d mask.png\n");
-    dir.write("s.obj", "mtllib m.mtl\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
-                       "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                       "usemtl floor\nf 1 4 3 2\nusemtl lamp\nf 5/1 6/2 7/3 8/4\n");
-    const Scene s = loadScene(dir.write("s.json", R"({"obj": "s.obj", "camera": {"position": [0, 0.9, 0.01], "target": [0, 0, 0], "fov": 60}, "environment": 0})"));
+    dir.write("s.obj",
+              "mtllib m.mtl\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
+              "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+              "usemtl floor\nf 1 4 3 2\nusemtl lamp\nf 5/1 6/2 7/3 8/4\n");
+    const Scene s = loadScene(dir.write(
+        "s.json", R"({"obj": "s.obj", "camera": {"position": [0, 0.9, 0.01], "target": [0, 0, 0], "fov": 60}, "environment": 0})"));
     ASSERT_TRUE(s.hasCutOuts());
     const auto [nee, seNee] = test::imageMeanAndError(test::renderIndependent(s, "cosine", 16, 64, 41, true));
     const auto [paths, sePaths] = test::imageMeanAndError(test::renderIndependent(s, "cosine", 16, 64, 42, false));

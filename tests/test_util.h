@@ -28,12 +28,12 @@ inline std::string scenesDir() {
 }
 
 /// Skips the test when the shared scenes are missing, unless SYMPHONG_REQUIRE_SCENES is set (CI sets it).
-#define SYMPHONG_REQUIRE_SCENES_DIR()                                                                    \
-    do {                                                                                                 \
-        if (::symphong::test::scenesDir().empty()) {                                                     \
-            if (std::getenv("SYMPHONG_REQUIRE_SCENES")) FAIL() << "shared scenes not found";             \
-            GTEST_SKIP() << "shared scenes not found beside the repository (set SYMPHONG_SCENES)";       \
-        }                                                                                                \
+#define SYMPHONG_REQUIRE_SCENES_DIR()                                                              \
+    do {                                                                                           \
+        if (::symphong::test::scenesDir().empty()) {                                               \
+            if (std::getenv("SYMPHONG_REQUIRE_SCENES")) FAIL() << "shared scenes not found";       \
+            GTEST_SKIP() << "shared scenes not found beside the repository (set SYMPHONG_SCENES)"; \
+        }                                                                                          \
     } while (0)
 
 /// A fresh directory for one test, named after it (suite and test, so binaries run side by side do
@@ -42,8 +42,7 @@ struct TempDir {
     std::filesystem::path path;
     TempDir() {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = std::filesystem::temp_directory_path() /
-               ("symphong-test-" + std::string(info->test_suite_name()) + "." + info->name());
+        path = std::filesystem::temp_directory_path() / ("symphong-test-" + std::string(info->test_suite_name()) + "." + info->name());
         std::filesystem::remove_all(path);
         std::filesystem::create_directories(path);
     }
@@ -70,7 +69,8 @@ inline void addUvSphere(Scene& s, std::uint32_t material, bool outwards, int sta
         }
     const auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * slices + (j % slices)); };
     const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        s.triangles.push_back({outwards ? std::array<std::uint32_t, 3>{a, c, b} : std::array<std::uint32_t, 3>{a, b, c}, {-1, -1, -1}, material});
+        s.triangles.push_back(
+            {outwards ? std::array<std::uint32_t, 3>{a, c, b} : std::array<std::uint32_t, 3>{a, b, c}, {-1, -1, -1}, material});
     };
     for (int i = 0; i < stacks; ++i)
         for (int j = 0; j < slices; ++j) {
@@ -115,8 +115,8 @@ inline std::pair<double, double> imageMeanAndError(const RenderResult& r) {
     return {m / n, std::sqrt(v) / n};
 }
 
-inline RenderResult renderTiny(const Scene& scene, const std::string& estimator, int size, std::uint32_t spp,
-                               std::uint64_t seed, int threads = 0, bool nee = true, int maxDepth = 16,
+inline RenderResult renderTiny(const Scene& scene, const std::string& estimator, int size, std::uint32_t spp, std::uint64_t seed,
+                               int threads = 0, bool nee = true, int maxDepth = 16,
                                const std::string& sampler = std::string(kDefaultSampler)) {
     const Accel accel(scene);
     const auto est = makeEstimator(estimator);

@@ -2,14 +2,14 @@
 // headers give it (a second source: the headers this test was compiled against).
 #include <gtest/gtest.h>
 
-#include <embree3/rtcore_config.h>
 #include <OpenEXRConfig.h>
+#include <embree3/rtcore_config.h>
 #include <png.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 

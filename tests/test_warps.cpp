@@ -50,8 +50,7 @@ TEST(Warps, PdfsIntegrateToOne) {
     EXPECT_NEAR(test::integrateOverSphere(uniformHemispherePdf), 1.0, 1e-4);
     EXPECT_NEAR(test::integrateOverSphere(cosineHemispherePdf), 1.0, 1e-4);
     for (double n : {0.0, 1.0, 10.0, 100.0, 1000.0, 10000.0})
-        EXPECT_NEAR(test::SphereChiSquare([n](const Vec3& w) { return phongLobePdf(w.z, n); }, aroundAxis(Vec3(0, 0, 1), n))
-                        .pdfIntegral(),
+        EXPECT_NEAR(test::SphereChiSquare([n](const Vec3& w) { return phongLobePdf(w.z, n); }, aroundAxis(Vec3(0, 0, 1), n)).pdfIntegral(),
                     1.0, 1e-8)
             << "n = " << n;
 }
@@ -69,9 +68,9 @@ TEST(Warps, PhongLobeFitsItsPdf) {
     const std::vector<double> exponents = {0.0, 1.0, 10.0, 100.0, 1000.0, 10000.0};
     std::uint64_t seed = 300;
     for (double n : exponents)
-        expectFits("n = " + std::to_string(static_cast<int>(n)), draw([n](Rng& r) { return samplePhongLobe(r.uniform2(), n); }, seed++),
-                   [n](const Vec3& w) { return phongLobePdf(w.z, n); }, aroundAxis(Vec3(0, 0, 1), n),
-                   static_cast<int>(exponents.size()));
+        expectFits(
+            "n = " + std::to_string(static_cast<int>(n)), draw([n](Rng& r) { return samplePhongLobe(r.uniform2(), n); }, seed++),
+            [n](const Vec3& w) { return phongLobePdf(w.z, n); }, aroundAxis(Vec3(0, 0, 1), n), static_cast<int>(exponents.size()));
 }
 
 TEST(Warps, ConcentricDiskStaysInTheDiskAndIsUniform) {
@@ -151,10 +150,11 @@ TEST(EstimatorDirections, PhongMixtureFitsItsPdf) {
             const auto sample = [&](Rng& r) { return PhongLobeEstimator::sampleDirection(ctx, r.uniform2()); };
             const auto pdf = [&](const Vec3& w) { return PhongLobeEstimator::directionPdf(ctx, w); };
             char what[120];
-            std::snprintf(what, sizeof what, "theta_o = %g deg, phi_o = %g, rho_d = %g, rho_s = %g, n = %g", o.thetaDeg, o.phi,
-                          mt.rhoD, mt.rhoS, mt.n);
+            std::snprintf(what, sizeof what, "theta_o = %g deg, phi_o = %g, rho_d = %g, rho_s = %g, n = %g", o.thetaDeg, o.phi, mt.rhoD,
+                          mt.rhoS, mt.n);
             expectFits(std::string(what) + ", grid about the normal", draw(sample, seed++, 200000), pdf, {}, runs);
-            expectFits(std::string(what) + ", grid about the mirror direction", draw(sample, seed++, 200000), pdf, aroundAxis(mirror, mt.n), runs);
+            expectFits(std::string(what) + ", grid about the mirror direction", draw(sample, seed++, 200000), pdf, aroundAxis(mirror, mt.n),
+                       runs);
         }
 }
 
@@ -170,8 +170,8 @@ TEST(EstimatorDirections, PhongMixtureTestRejectsAWrongLobeProbability) {
     const double pd = PhongLobeEstimator::diffuseProbability(m) + 0.02;
     const Vec3 mirror(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
     const auto wrong = [&](const Vec3& w) { return pd * cosineHemispherePdf(w) + (1 - pd) * phongLobePdf(dot(mirror, w), m.exponent); };
-    const auto r = test::chiSquareSphere(draw([&](Rng& g) { return PhongLobeEstimator::sampleDirection(ctx, g.uniform2()); }, 999, 200000),
-                                         wrong);
+    const auto r =
+        test::chiSquareSphere(draw([&](Rng& g) { return PhongLobeEstimator::sampleDirection(ctx, g.uniform2()); }, 999, 200000), wrong);
     EXPECT_FALSE(r.passed) << r.describe();
     EXPECT_LT(r.pValue, test::sidakAlpha(56) / 100) << r.describe();
 }

@@ -37,19 +37,20 @@ void cutOutFilter(const RTCFilterFunctionNArguments* args) {
 
 Accel::Accel(const Scene& scene) {
     device_ = rtcNewDevice(nullptr);
-    if (!device_) throw std::runtime_error(fmt::format("cannot create the Embree device (error {})", static_cast<int>(rtcGetDeviceError(nullptr))));
+    if (!device_)
+        throw std::runtime_error(fmt::format("cannot create the Embree device (error {})", static_cast<int>(rtcGetDeviceError(nullptr))));
     rtcSetDeviceErrorFunction(device_, onEmbreeError, nullptr);
     scene_ = rtcNewScene(device_);
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
 
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), scene.positions.size()));
+    auto* verts = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), scene.positions.size()));
     for (std::size_t i = 0; i < scene.positions.size(); ++i)
         for (int c = 0; c < 3; ++c) verts[3 * i + c] = static_cast<float>(scene.positions[i][c]);
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), scene.triangles.size()));
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), scene.triangles.size()));
     for (std::size_t i = 0; i < scene.triangles.size(); ++i)
         for (int c = 0; c < 3; ++c) idx[3 * i + c] = scene.triangles[i].v[c];
     if (scene.hasCutOuts()) {
@@ -100,8 +101,7 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
 
 void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found) const {
     if (!packets_) {
-        for (std::size_t i = 0; i < n; ++i)
-            found[i] = intersect(o, dirs[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
+        for (std::size_t i = 0; i < n; ++i) found[i] = intersect(o, dirs[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
         return;
     }
     const float ox = static_cast<float>(o.x), oy = static_cast<float>(o.y), oz = static_cast<float>(o.z);

@@ -4,8 +4,8 @@
 #include "distrib/mpi_job.h"
 #include "io/input_error.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 
@@ -52,7 +52,8 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
         if (app.got_subcommand("info")) return job.root() ? runInfo(infoScene) : 0;
         // The furnace is not shared among ranks (its estimates take seconds): rank 0 runs it alone.
         if (!job.root()) return 0;
-        if (job.size() > 1) fmt::print(stderr, "symphong: warning: 'furnace' does not share its work among MPI ranks; rank 0 runs it alone\n");
+        if (job.size() > 1)
+            fmt::print(stderr, "symphong: warning: 'furnace' does not share its work among MPI ranks; rank 0 runs it alone\n");
         if (app.got_subcommand("furnace")) return runFurnaceCommand(furnaceOptions);
     } catch (const InputError& e) {
         // Errors that reach here are the same on every rank (or were agreed on): reported once.

@@ -39,13 +39,13 @@ int runFurnaceCommand(const FurnaceOptions& o) {
     }
     fmt::print("rho_d {}  rho_s {}  repeats {}  seed {}  sampler {}  (one-direction estimators: {} calls per estimate)\n", table.rhoD,
                table.rhoS, table.repeats, table.seed, table.sampler, table.directions);
-    fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6} {:>11} {:>10} {:>11} {:>9} {:>8} {:>10} {:>10} {:>9} {:>10}\n", "estimator",
-               "environmt", "n", "theta", "dirs", "estimate", "std.err", "exact", "rel.bias", "z", "var(1 est)", "var x dirs",
-               "us/est", "efficiency");
+    fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6} {:>11} {:>10} {:>11} {:>9} {:>8} {:>10} {:>10} {:>9} {:>10}\n", "estimator", "environmt",
+               "n", "theta", "dirs", "estimate", "std.err", "exact", "rel.bias", "z", "var(1 est)", "var x dirs", "us/est", "efficiency");
     const auto rows = runFurnaceTable(table, [](const FurnaceResult& r) {
-        fmt::print("{:<18} {:<10} {:>6} {:>5} {:>6.1f} {:>11.6f} {:>10.2e} {:>11.6f} {:>+8.2f}% {:>8.2f} {:>10.3e} {:>10.3e} {:>9.3f} {:>10.3e}\n",
-                   r.estimator, r.environment, r.n, r.thetaDeg, r.directionsPerEstimate, r.estimate, r.stdError, r.exact,
-                   100 * r.relativeBias, r.z, r.variance, r.varianceTimesDirections, 1e6 * r.secondsPerEstimate, r.efficiency);
+        fmt::print(
+            "{:<18} {:<10} {:>6} {:>5} {:>6.1f} {:>11.6f} {:>10.2e} {:>11.6f} {:>+8.2f}% {:>8.2f} {:>10.3e} {:>10.3e} {:>9.3f} {:>10.3e}\n",
+            r.estimator, r.environment, r.n, r.thetaDeg, r.directionsPerEstimate, r.estimate, r.stdError, r.exact, 100 * r.relativeBias,
+            r.z, r.variance, r.varianceTimesDirections, 1e6 * r.secondsPerEstimate, r.efficiency);
     });
     if (!o.json.empty()) writeFile(o.json, furnaceJson(rows));
     return 0;

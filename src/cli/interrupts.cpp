@@ -18,7 +18,8 @@ constexpr char kLauncherStopped[] = "symphong: the MPI launcher is stopping the 
 extern "C" void onInterrupt(int) { gInterrupted.store(true); }
 
 extern "C" void onLauncherStopStudy(int) {
-    if (!gInterrupted.exchange(true)) [[maybe_unused]] const auto n = ::write(STDERR_FILENO, kLauncherStopped, sizeof kLauncherStopped - 1);
+    if (!gInterrupted.exchange(true)) [[maybe_unused]]
+        const auto n = ::write(STDERR_FILENO, kLauncherStopped, sizeof kLauncherStopped - 1);
 }
 
 extern "C" void onLauncherStopRender(int) {

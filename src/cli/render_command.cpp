@@ -88,7 +88,10 @@ int runRender(const RenderOptions& o, const MpiJob& job) {
     writeImage(result.image, output, o.exposure, o.exrHalf);
     const double secs = std::max(result.stats.seconds, 1e-9);
     fmt::print("{}: {}x{}, {} spp, estimator {}, sampler {}{}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name, o.width,
-               o.height, o.spp, estimator->name(), result.sampler, job.size() > 1 ? fmt::format(", {} ranks (tiles {}, gather {:.3f} s)", job.size(), fmt::join(distributed.tilesPerRank, "/"), distributed.gatherSeconds) : "",
+               o.height, o.spp, estimator->name(), result.sampler,
+               job.size() > 1 ? fmt::format(", {} ranks (tiles {}, gather {:.3f} s)", job.size(), fmt::join(distributed.tilesPerRank, "/"),
+                                            distributed.gatherSeconds)
+                              : "",
                result.stats.seconds, result.stats.rays / secs / 1e6, ProgressBar::formatCount(result.stats.samples / secs), output);
     return 0;
 }

@@ -12,7 +12,8 @@
 namespace symphong {
 
 void addStudyCommand(CLI::App& app, StudyOptions& o) {
-    CLI::App* s = app.add_subcommand("study", "Compare estimators on a scene: bias, RMSE, variance, time, efficiency, with plots and a report.");
+    CLI::App* s =
+        app.add_subcommand("study", "Compare estimators on a scene: bias, RMSE, variance, time, efficiency, with plots and a report.");
     s->footer(
         "Renders SCENE with each estimator (under each of --samplers, and the set estimators in each of --symmetric-modes)\n"
         "at each sample count, --repeats independent times, against a reference image\n"

@@ -13,10 +13,11 @@
 namespace symphong {
 
 std::string versionText() {
-    return fmt::format("symphong {}\n"
-                       "built with: Embree {}, oneTBB {}, Assimp {}, OpenEXR {}, libpng {}, MPI: {}, fmt {}.{}.{}",
-                       SYMPHONG_VERSION, embreeVersion(), tbbVersion(), assimpVersion(), openexrVersion(), libpngVersion(), mpiVersion(),
-                       FMT_VERSION / 10000, FMT_VERSION / 100 % 100, FMT_VERSION % 100);
+    return fmt::format(
+        "symphong {}\n"
+        "built with: Embree {}, oneTBB {}, Assimp {}, OpenEXR {}, libpng {}, MPI: {}, fmt {}.{}.{}",
+        SYMPHONG_VERSION, embreeVersion(), tbbVersion(), assimpVersion(), openexrVersion(), libpngVersion(), mpiVersion(),
+        FMT_VERSION / 10000, FMT_VERSION / 100 % 100, FMT_VERSION % 100);
 }
 
 }  // namespace symphong

@@ -2,11 +2,11 @@
 
 #include <mpi.h>
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
-#include <string>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace symphong {

@@ -12,7 +12,7 @@
 namespace symphong {
 
 struct DistributedStats {
-    double gatherSeconds = 0;  ///< rank 0: receiving and placing the other ranks' tiles
+    double gatherSeconds = 0;       ///< rank 0: receiving and placing the other ranks' tiles
     std::vector<int> tilesPerRank;  ///< rank 0: how many tiles each rank rendered
 };
 

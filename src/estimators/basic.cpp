@@ -56,9 +56,7 @@ void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples
     pushWeighted(ctx, wi, directionPdf(ctx, wi), out);
 }
 
-double PhongLobeEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const {
-    return wi.z > 0 ? directionPdf(ctx, wi) : 0.0;
-}
+double PhongLobeEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const { return wi.z > 0 ? directionPdf(ctx, wi) : 0.0; }
 
 std::unique_ptr<Estimator> makeUniformEstimator(const EstimatorOptions&) { return std::make_unique<UniformEstimator>(); }
 std::unique_ptr<Estimator> makeCosineEstimator(const EstimatorOptions&) { return std::make_unique<CosineEstimator>(); }

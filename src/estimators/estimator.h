@@ -19,9 +19,9 @@
 namespace symphong {
 
 struct ShadingContext {
-    Vec3 wo;                           ///< outgoing direction, local frame (wo.z > 0)
+    Vec3 wo;  ///< outgoing direction, local frame (wo.z > 0)
     const PhongMaterial* material = nullptr;
-    int depth = 0;                     ///< 0 at the first surface seen from the camera
+    int depth = 0;  ///< 0 at the first surface seen from the camera
     /// Whether the estimator may return several directions (the path tracer allows it at the first
     /// hit only, so paths never branch exponentially); otherwise it returns at most one.
     bool branch = false;
@@ -79,10 +79,10 @@ public:
 
 /// Settings that only some estimators read.
 struct EstimatorOptions {
-    int symmetricN = 1;         ///< N': (u,v) points per piece for `paper`, `symmetric`, `symmetric-shifted`
-    bool paperRefined = false;  ///< `paper`: the conclusion's finer lobe normalisation instead of Eq. (6)'s
+    int symmetricN = 1;                                   ///< N': (u,v) points per piece for `paper`, `symmetric`, `symmetric-shifted`
+    bool paperRefined = false;                            ///< `paper`: the conclusion's finer lobe normalisation instead of Eq. (6)'s
     SymmetricMode symmetricMode = SymmetricMode::Branch;  ///< `paper`, `symmetric*`: branch or spread
-    int symmetricOrbit = 2;     ///< `symmetric-mix`: copies of one point used together (1, 2, 4 or 8)
+    int symmetricOrbit = 2;                               ///< `symmetric-mix`: copies of one point used together (1, 2, 4 or 8)
 };
 
 /// "branch" or "spread".

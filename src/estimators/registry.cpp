@@ -25,13 +25,10 @@ constexpr EstimatorTraits kCandidateWithoutDensity{false, true, "", EstimatorRol
 const EstimatorEntry kEstimators[] = {
     {"uniform", "uniform hemisphere directions, p = 1/(2 pi)", kPlain, makeUniformEstimator},
     {"cosine", "cosine-weighted directions, p = cos/pi", kYardstick, makeCosineEstimator},
-    {"stratified", "cosine directions under the stratified sampler (whatever --sampler says)", kStratifiedTraits,
-     makeStratifiedEstimator},
+    {"stratified", "cosine directions under the stratified sampler (whatever --sampler says)", kStratifiedTraits, makeStratifiedEstimator},
     {"phong", "Phong lobe importance sampling: diffuse or specular lobe chosen by albedo", kBaseline, makePhongLobeEstimator},
-    {"paper", "the paper's symmetric estimator, Eq. (4) + (7), exactly as printed (biased)", kCandidateWithoutDensity,
-     makePaperEstimator},
-    {"symmetric", "corrected symmetric estimator: 16 pieces + 8 rotated triangles, exact maps, MIS", kCandidate,
-     makeSymmetricEstimator},
+    {"paper", "the paper's symmetric estimator, Eq. (4) + (7), exactly as printed (biased)", kCandidateWithoutDensity, makePaperEstimator},
+    {"symmetric", "corrected symmetric estimator: 16 pieces + 8 rotated triangles, exact maps, MIS", kCandidate, makeSymmetricEstimator},
     {"symmetric-shifted", "as symmetric, each symmetric copy from its own shifted (u,v)", kCandidate, makeSymmetricShiftedEstimator},
     {"symmetric-mix",
      "symmetric sampling with phong's mixture: pieces by projected solid angle, lobe vs\n"
@@ -64,7 +61,8 @@ const EstimatorEntry& estimatorEntry(std::string_view name) {
 }
 
 std::string_view yardstickEstimator() {
-    const auto it = std::find_if(std::begin(kEstimators), std::end(kEstimators), [](const EstimatorEntry& e) { return e.traits.yardstick; });
+    const auto it =
+        std::find_if(std::begin(kEstimators), std::end(kEstimators), [](const EstimatorEntry& e) { return e.traits.yardstick; });
     return it == std::end(kEstimators) ? kEstimators[0].name : it->name;
 }
 

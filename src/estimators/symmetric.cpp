@@ -28,7 +28,7 @@ double PaperEstimator::lobeNormalisation(double n, bool refined) {
     const double a = std::pow(std::sqrt(3.0) / 3.0, n + 1.0);
     if (!refined) return kTwoPi * (1.0 - a) / (n + 1.0);  // Eq. (6) with cos(theta_s,max) = 1/sqrt(3)
     const double b = std::pow(std::sqrt(2.0) / 2.0, n + 1.0);
-    return kTwoPi / (n + 1.0) * (1.0 - 0.5 * (a + b));     // the conclusion's estimate
+    return kTwoPi / (n + 1.0) * (1.0 - 0.5 * (a + b));  // the conclusion's estimate
 }
 
 namespace {
@@ -36,9 +36,9 @@ namespace {
 /// The paper's three weighted directions from one point (u_j, v_j) and octant k, shared by the whole
 /// estimate and by the one-direction form used at deeper bounces.
 struct PaperTerms {
-    Color rhoD, rhoS;       ///< the paper's rho_d (= ours / pi) and rho_s (= ours (n+2)/(2 pi))
-    double diffuseScale;    ///< Eq. (4): pi / (48 N')
-    double specularScale;   ///< Eq. (7): 2 pi (1 - (sqrt3/3)^(n+1)) / ((n+1) N), N = 8N'
+    Color rhoD, rhoS;      ///< the paper's rho_d (= ours / pi) and rho_s (= ours (n+2)/(2 pi))
+    double diffuseScale;   ///< Eq. (4): pi / (48 N')
+    double specularScale;  ///< Eq. (7): 2 pi (1 - (sqrt3/3)^(n+1)) / ((n+1) N), N = 8N'
     LobeFrame lobe;
 
     PaperTerms(const ShadingContext& ctx, int nPrime, bool refined)
@@ -50,13 +50,9 @@ struct PaperTerms {
 
     // Each takes the point's map image in octant 0 (computed once per point) and its weight w(u,v).
     /// (1/2) L_tri w(u,v) of Eq. (4), from paperTriangleMap.
-    DirectionSample triangle(const Vec3& tri, double w, int k) const {
-        return {toOctant(tri, k), rhoD * (diffuseScale * 0.5 * w), 0.0};
-    }
+    DirectionSample triangle(const Vec3& tri, double w, int k) const { return {toOctant(tri, k), rhoD * (diffuseScale * 0.5 * w), 0.0}; }
     /// L_quad w(u,v) of Eq. (4), from paperQuadrangleMap.
-    DirectionSample quadrangle(const Vec3& quad, double w, int k) const {
-        return {toOctant(quad, k), rhoD * (diffuseScale * w), 0.0};
-    }
+    DirectionSample quadrangle(const Vec3& quad, double w, int k) const { return {toOctant(quad, k), rhoD * (diffuseScale * w), 0.0}; }
     /// L Z' of Eq. (7): the triangle direction rotated by R_X(theta_s); Z' as printed, negative below.
     DirectionSample specular(const Vec3& tri, int k) const {
         const Vec3 d = lobe.toLocal(toOctant(tri, k));
@@ -206,9 +202,12 @@ void SymmetricEstimator::sample(const ShadingContext& ctx, SampleStream& samples
     const int k = static_cast<int>(piece % 8);
     const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
     Vec3 wi;
-    if (piece < 8) wi = toOctant(triangleMap(copyPoint(p, k, PieceKind::Triangle)), k);
-    else if (piece < 16) wi = toOctant(quadrangleMap(copyPoint(p, k, PieceKind::Quadrangle)), k);
-    else wi = lobe.toLocal(toOctant(lobeTriangleMap(copyPoint(p, k, PieceKind::Triangle), m.exponent), k));
+    if (piece < 8)
+        wi = toOctant(triangleMap(copyPoint(p, k, PieceKind::Triangle)), k);
+    else if (piece < 16)
+        wi = toOctant(quadrangleMap(copyPoint(p, k, PieceKind::Quadrangle)), k);
+    else
+        wi = lobe.toLocal(toOctant(lobeTriangleMap(copyPoint(p, k, PieceKind::Triangle), m.exponent), k));
     if (wi.z <= 0) return;  // a rotated direction below the surface carries no light (erratum 6)
     const Color f = evalPhong(m, ctx.wo, wi);
     if (isBlack(f)) return;

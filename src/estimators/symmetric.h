@@ -28,7 +28,8 @@ std::unique_ptr<Estimator> makeSymmetricShiftedEstimator(const EstimatorOptions&
 /// the entries' points are shared by the samples of a round, so a round of K samples is one whole set.
 class PaperEstimator final : public Estimator {
 public:
-    PaperEstimator(int nPrime, bool refined, SymmetricMode mode = SymmetricMode::Branch) : nPrime_(nPrime), refined_(refined), mode_(mode) {}
+    PaperEstimator(int nPrime, bool refined, SymmetricMode mode = SymmetricMode::Branch)
+        : nPrime_(nPrime), refined_(refined), mode_(mode) {}
     std::string_view name() const override { return "paper"; }
     void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext&, const Vec3&) const override { return 0.0; }

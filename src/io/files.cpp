@@ -4,13 +4,13 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 namespace symphong {
 

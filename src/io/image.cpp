@@ -4,13 +4,13 @@
 #include "io/input_error.h"
 #include "io/memory.h"
 
-#include <OpenEXRConfig.h>
 #include <ImfArray.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <OpenEXRConfig.h>
 #include <fmt/format.h>
 #include <png.h>
 #include <unistd.h>
@@ -55,8 +55,7 @@ void writePng(const Image& img, const std::string& path, double exposure) {
         pi.width = static_cast<png_uint_32>(img.width);
         pi.height = static_cast<png_uint_32>(img.height);
         pi.format = PNG_FORMAT_RGB;
-        if (!png_image_write_to_file(&pi, tmp.c_str(), 0, bytes.data(), 0, nullptr))
-            throw std::runtime_error(pi.message);
+        if (!png_image_write_to_file(&pi, tmp.c_str(), 0, bytes.data(), 0, nullptr)) throw std::runtime_error(pi.message);
     });
 }
 
@@ -99,20 +98,22 @@ Image readExr(const std::string& path) {
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();
-        const std::int64_t w64 = static_cast<std::int64_t>(dw.max.x) - dw.min.x + 1, h64 = static_cast<std::int64_t>(dw.max.y) - dw.min.y + 1;
+        const std::int64_t w64 = static_cast<std::int64_t>(dw.max.x) - dw.min.x + 1,
+                           h64 = static_cast<std::int64_t>(dw.max.y) - dw.min.y + 1;
         if (w64 <= 0 || h64 <= 0 || w64 > (1 << 24) || h64 > (1 << 24))
             throw InputError(fmt::format("{}: EXR data window {} x {} is empty or too large", path, w64, h64));
-        requireMemory(static_cast<std::uint64_t>(w64) * static_cast<std::uint64_t>(h64) * 36, fmt::format("{}: a {} x {} image", path, w64, h64));
+        requireMemory(static_cast<std::uint64_t>(w64) * static_cast<std::uint64_t>(h64) * 36,
+                      fmt::format("{}: a {} x {} image", path, w64, h64));
         const int w = static_cast<int>(w64), h = static_cast<int>(h64);
         const std::size_t n = static_cast<std::size_t>(w) * h;
         std::vector<float> planes(3 * n, 0.0f);
         Imf::FrameBuffer fb;
         const char* names[3] = {"R", "G", "B"};
         for (int c = 0; c < 3; ++c) {
-            if (!file.header().channels().findChannel(names[c]))
-                throw InputError(fmt::format("{}: EXR has no {} channel", path, names[c]));
+            if (!file.header().channels().findChannel(names[c])) throw InputError(fmt::format("{}: EXR has no {} channel", path, names[c]));
             char* base = reinterpret_cast<char*>(planes.data() + c * n) -
-                         (static_cast<std::ptrdiff_t>(dw.min.x) + static_cast<std::ptrdiff_t>(dw.min.y) * w) * static_cast<std::ptrdiff_t>(sizeof(float));
+                         (static_cast<std::ptrdiff_t>(dw.min.x) + static_cast<std::ptrdiff_t>(dw.min.y) * w) *
+                             static_cast<std::ptrdiff_t>(sizeof(float));
             fb.insert(names[c], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * w));
         }
         file.setFrameBuffer(fb);

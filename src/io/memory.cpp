@@ -30,9 +30,10 @@ void requireMemory(std::uint64_t bytes, const std::string& what) {
     if (bytes <= budget) return;
     constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
     const double need = static_cast<double>(bytes) / kGiB;
-    throw InputError(fmt::format("{}: needs {:.3g} GiB of memory, more than the {:.3g} GiB symphong allows itself on this machine "
-                                 "(3/4 of its {:.3g} GiB)",
-                                 what, need, static_cast<double>(budget) / kGiB, static_cast<double>(physicalMemoryBytes()) / kGiB));
+    throw InputError(
+        fmt::format("{}: needs {:.3g} GiB of memory, more than the {:.3g} GiB symphong allows itself on this machine "
+                    "(3/4 of its {:.3g} GiB)",
+                    what, need, static_cast<double>(budget) / kGiB, static_cast<double>(physicalMemoryBytes()) / kGiB));
 }
 
 }  // namespace symphong

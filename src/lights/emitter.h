@@ -19,7 +19,7 @@ namespace symphong {
 /// What light sampling at a point gets from an emitter: a direction, what arrives along it, the
 /// density, and the segment a shadow ray must test.
 struct EmitterSample {
-    Vec3 wi;         ///< unit world direction from the shading point towards the emitter
+    Vec3 wi;  ///< unit world direction from the shading point towards the emitter
     /// What arrives along wi: radiance Le for an area or environment emitter; for a delta emitter the
     /// irradiance of a surface facing it (I / d^2 for a point or spot light, E for a directional light).
     Color radiance;

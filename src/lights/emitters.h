@@ -58,9 +58,9 @@ private:
     }
 
     std::vector<std::unique_ptr<Emitter>> all_;  ///< emissive triangles, then lights, then the background
-    std::vector<std::int64_t> slot_;            ///< emitter -> its entry in the distribution, or -1
-    std::vector<std::size_t> sampled_;          ///< distribution entry -> emitter
-    std::vector<std::int32_t> triangleEmitter_; ///< triangle -> emitter, or -1
+    std::vector<std::int64_t> slot_;             ///< emitter -> its entry in the distribution, or -1
+    std::vector<std::size_t> sampled_;           ///< distribution entry -> emitter
+    std::vector<std::int32_t> triangleEmitter_;  ///< triangle -> emitter, or -1
     std::size_t lightsBegin_ = 0, backgroundIndex_ = 0;
     std::int64_t backgroundSlot_ = -1;
     bool samplesTriangles_ = false;

@@ -2,8 +2,8 @@
 // surface facing it, along the one direction towards it (a delta emitter). Power 4 pi Y(I).
 #include "lights/kinds.h"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 namespace symphong {
 

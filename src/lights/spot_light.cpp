@@ -3,8 +3,8 @@
 // falloff / d^2. Power: the cone's share of 4 pi Y(I), 2 pi Y(I) (1 - (cos inner + cos outer) / 2).
 #include "lights/kinds.h"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 namespace symphong {
 

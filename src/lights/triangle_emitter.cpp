@@ -15,7 +15,11 @@ namespace {
 class TriangleEmitter final : public Emitter {
 public:
     TriangleEmitter(const Scene& scene, std::uint32_t prim, double area, const Vec3& normal)
-        : scene_(scene), triangle_(scene.triangles[prim]), material_(scene.materials[triangle_.material]), area_(area), normal_(normal),
+        : scene_(scene),
+          triangle_(scene.triangles[prim]),
+          material_(scene.materials[triangle_.material]),
+          area_(area),
+          normal_(normal),
           textured_(material_.textures.any()) {}
 
     const char* kind() const override { return "triangle"; }

@@ -34,16 +34,15 @@ double azimuthIntegral(double cosAlpha, double cosTheta, double sinTheta) {
     return 2.0 * (a * std::acos(-a / b) + std::sqrt(std::max(0.0, b * b - a * a)));
 }
 
-double simpson(const std::function<double(double)>& f, double a, double b, double fa, double fm, double fb,
-               double whole, double tol, int depth) {
+double simpson(const std::function<double(double)>& f, double a, double b, double fa, double fm, double fb, double whole, double tol,
+               int depth) {
     const double m = 0.5 * (a + b), lm = 0.5 * (a + m), rm = 0.5 * (m + b);
     const double flm = f(lm), frm = f(rm);
     const double left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
     const double right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
     const double delta = left + right - whole;
     if (depth <= 0 || std::abs(delta) <= 15.0 * tol) return left + right + delta / 15.0;
-    return simpson(f, a, m, fa, flm, fm, left, 0.5 * tol, depth - 1) +
-           simpson(f, m, b, fm, frm, fb, right, 0.5 * tol, depth - 1);
+    return simpson(f, a, m, fa, flm, fm, left, 0.5 * tol, depth - 1) + simpson(f, m, b, fm, frm, fb, right, 0.5 * tol, depth - 1);
 }
 
 // Adaptive Simpson over [a,b], started from `panels` equal panels so that narrow features are seen.

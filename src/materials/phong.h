@@ -28,13 +28,14 @@ struct MaterialTextures {
     };
     Model model = Model::Phong;
     TextureRef diffuse, specular, exponent, metallicRoughness;
-    TextureRef emission;  ///< Le = Ke x emission
-    TextureRef alpha;     ///< cut-out: where its coverage is below 1/2 the surface is a hole
-    Color baseColor{1.0};                 ///< MetallicRoughness factors
+    TextureRef emission;   ///< Le = Ke x emission
+    TextureRef alpha;      ///< cut-out: where its coverage is below 1/2 the surface is a hole
+    Color baseColor{1.0};  ///< MetallicRoughness factors
     double metallic = 0, roughness = 1;
 
     bool any() const {
-        return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present() || emission.present() || alpha.present();
+        return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present() || emission.present() ||
+               alpha.present();
     }
     /// Whether the textures change rho_d, rho_s or n (not only emission or coverage).
     bool reflectance() const { return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present(); }
@@ -42,10 +43,10 @@ struct MaterialTextures {
 
 struct PhongMaterial {
     std::string name = "default";
-    Color rhoD{0.7};       ///< diffuse albedo rho_d (the reflected fraction of the diffuse lobe)
-    Color rhoS{0.0};       ///< specular albedo rho_s (at normal incidence, before the horizon cuts the lobe)
-    double exponent = 1;   ///< Phong exponent n >= 0
-    Color emission{0.0};   ///< emitted radiance Le on the front side (counter-clockwise winding)
+    Color rhoD{0.7};            ///< diffuse albedo rho_d (the reflected fraction of the diffuse lobe)
+    Color rhoS{0.0};            ///< specular albedo rho_s (at normal incidence, before the horizon cuts the lobe)
+    double exponent = 1;        ///< Phong exponent n >= 0
+    Color emission{0.0};        ///< emitted radiance Le on the front side (counter-clockwise winding)
     MaterialTextures textures;  ///< texture maps on these parameters (none by default)
 
     bool isEmissive() const { return !isBlack(emission); }
@@ -59,9 +60,7 @@ struct PhongMaterial {
 Color evalPhong(const PhongMaterial& m, const Vec3& wo, const Vec3& wi);
 
 /// The specular lobe's cosine of alpha for a pair of local directions: (2 wo.z Z - wo) . wi, clamped at 0.
-inline double phongCosAlpha(const Vec3& wo, const Vec3& wi) {
-    return std::max(0.0, dot(Vec3(-wo.x, -wo.y, wo.z), wi));
-}
+inline double phongCosAlpha(const Vec3& wo, const Vec3& wi) { return std::max(0.0, dot(Vec3(-wo.x, -wo.y, wo.z), wi)); }
 
 /// I(n, theta) = integral over the hemisphere of cos^n(alpha) cos(theta') dw', where the lobe axis makes
 /// the angle theta with the normal. Equals 2 pi / (n+2) at theta = 0; smaller once the horizon cuts the

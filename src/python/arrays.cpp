@@ -43,7 +43,8 @@ void registerArrays(py::module_& m) {
     m.def(
         "write_image",
         [](const std::string& path, const py::array& image, double exposure, bool exrHalf) {
-            if (!(exposure > 0) || !std::isfinite(exposure)) throw InputError(fmt::format("exposure = {} must be a positive number", exposure));
+            if (!(exposure > 0) || !std::isfinite(exposure))
+                throw InputError(fmt::format("exposure = {} must be a positive number", exposure));
             imageFormatFor(path);  // the extension first: no work for a name that cannot be written
             const Image img = fromArray(image);
             py::gil_scoped_release release;

@@ -89,8 +89,10 @@ std::string renderDoc() {
 void registerRender(py::module_& m) {
     static const std::string doc = renderDoc();
     m.def("render", &renderPy, doc.c_str(), py::arg("scene"));
-    m.def("estimators", [] { return estimatorNames(); }, "The estimator names, as render(estimator=...) and furnace take them.");
-    m.def("samplers", [] { return samplerNames(); }, "The sampler names, as render(sampler=...) takes them.");
+    m.def(
+        "estimators", [] { return estimatorNames(); }, "The estimator names, as render(estimator=...) and furnace take them.");
+    m.def(
+        "samplers", [] { return samplerNames(); }, "The sampler names, as render(sampler=...) takes them.");
 }
 
 }  // namespace symphong

@@ -44,30 +44,30 @@ using PySceneClass = py::class_<PyScene, std::shared_ptr<PyScene>>;
 
 /// Scene.mesh() and Scene.primary_hits(): the geometry as arrays.
 void bindSceneArrays(PySceneClass& cls) {
-    cls        .def(
-            "mesh",
-            [](const PyScene& s) {
-                const Scene& sc = s.scene();
-                py::array_t<double> positions({static_cast<py::ssize_t>(sc.positions.size()), static_cast<py::ssize_t>(3)});
-                double* p = positions.mutable_data();
-                for (std::size_t i = 0; i < sc.positions.size(); ++i)
-                    for (int c = 0; c < 3; ++c) p[3 * i + c] = sc.positions[i][c];
-                py::array_t<std::uint32_t> triangles({static_cast<py::ssize_t>(sc.triangles.size()), static_cast<py::ssize_t>(3)});
-                py::array_t<std::uint32_t> material(static_cast<py::ssize_t>(sc.triangles.size()));
-                std::uint32_t* t = triangles.mutable_data();
-                std::uint32_t* m = material.mutable_data();
-                for (std::size_t i = 0; i < sc.triangles.size(); ++i) {
-                    for (int c = 0; c < 3; ++c) t[3 * i + c] = sc.triangles[i].v[static_cast<std::size_t>(c)];
-                    m[i] = sc.triangles[i].material;
-                }
-                py::dict d;
-                d["positions"] = positions;
-                d["triangles"] = triangles;
-                d["material"] = material;
-                return d;
-            },
-            "The geometry as rendered: dict of positions (V, 3) float64, triangles (T, 3) uint32 vertex indices (front face\n"
-            "counter-clockwise: emitters emit along cross(v1 - v0, v2 - v0)) and material (T,) uint32 indices into materials.")
+    cls.def(
+           "mesh",
+           [](const PyScene& s) {
+               const Scene& sc = s.scene();
+               py::array_t<double> positions({static_cast<py::ssize_t>(sc.positions.size()), static_cast<py::ssize_t>(3)});
+               double* p = positions.mutable_data();
+               for (std::size_t i = 0; i < sc.positions.size(); ++i)
+                   for (int c = 0; c < 3; ++c) p[3 * i + c] = sc.positions[i][c];
+               py::array_t<std::uint32_t> triangles({static_cast<py::ssize_t>(sc.triangles.size()), static_cast<py::ssize_t>(3)});
+               py::array_t<std::uint32_t> material(static_cast<py::ssize_t>(sc.triangles.size()));
+               std::uint32_t* t = triangles.mutable_data();
+               std::uint32_t* m = material.mutable_data();
+               for (std::size_t i = 0; i < sc.triangles.size(); ++i) {
+                   for (int c = 0; c < 3; ++c) t[3 * i + c] = sc.triangles[i].v[static_cast<std::size_t>(c)];
+                   m[i] = sc.triangles[i].material;
+               }
+               py::dict d;
+               d["positions"] = positions;
+               d["triangles"] = triangles;
+               d["material"] = material;
+               return d;
+           },
+           "The geometry as rendered: dict of positions (V, 3) float64, triangles (T, 3) uint32 vertex indices (front face\n"
+           "counter-clockwise: emitters emit along cross(v1 - v0, v2 - v0)) and material (T,) uint32 indices into materials.")
         .def(
             "primary_hits",
             [](const PyScene& s, long long width, long long height) {
@@ -82,7 +82,9 @@ void bindSceneArrays(PySceneClass& cls) {
                         cameraRay(s.scene().camera, w, h, x + 0.5, y + 0.5, origin, dir);
                         Hit hit;
                         o[static_cast<std::size_t>(y) * w + x] =
-                            accel.intersect(origin, dir, 0.0, std::numeric_limits<double>::infinity(), hit) ? static_cast<std::int64_t>(hit.prim) : -1;
+                            accel.intersect(origin, dir, 0.0, std::numeric_limits<double>::infinity(), hit)
+                                ? static_cast<std::int64_t>(hit.prim)
+                                : -1;
                     }
                 return out;
             },
@@ -93,24 +95,24 @@ void bindSceneArrays(PySceneClass& cls) {
 
 /// Scene.lights, sky, environment_map, textures, has_emitter, warnings.
 void bindSceneEmitters(PySceneClass& cls) {
-    cls        .def_property_readonly(
-            "lights",
-            [](const PyScene& s) {
-                py::list out;
-                for (const Light& l : s.scene().lights) {
-                    py::dict d;
-                    d["type"] = lightTypeName(l.type);
-                    d["position"] = py::make_tuple(l.position.x, l.position.y, l.position.z);
-                    d["direction"] = py::make_tuple(l.direction.x, l.direction.y, l.direction.z);
-                    d["intensity"] = py::make_tuple(l.intensity.x, l.intensity.y, l.intensity.z);
-                    d["cos_inner"] = l.cosInner;
-                    d["cos_outer"] = l.cosOuter;
-                    out.append(d);
-                }
-                return out;
-            },
-            "list of dicts: type (point, spot, directional), position, direction, intensity (irradiance for a directional\n"
-            "light), cos_inner, cos_outer (spot cones); the default sky's sun is one")
+    cls.def_property_readonly(
+           "lights",
+           [](const PyScene& s) {
+               py::list out;
+               for (const Light& l : s.scene().lights) {
+                   py::dict d;
+                   d["type"] = lightTypeName(l.type);
+                   d["position"] = py::make_tuple(l.position.x, l.position.y, l.position.z);
+                   d["direction"] = py::make_tuple(l.direction.x, l.direction.y, l.direction.z);
+                   d["intensity"] = py::make_tuple(l.intensity.x, l.intensity.y, l.intensity.z);
+                   d["cos_inner"] = l.cosInner;
+                   d["cos_outer"] = l.cosOuter;
+                   out.append(d);
+               }
+               return out;
+           },
+           "list of dicts: type (point, spot, directional), position, direction, intensity (irradiance for a directional\n"
+           "light), cos_inner, cos_outer (spot cones); the default sky's sun is one")
         .def_property_readonly(
             "sky",
             [](const PyScene& s) -> py::object {
@@ -156,65 +158,72 @@ void bindSceneEmitters(PySceneClass& cls) {
             },
             "list of dicts: file, width, height, channels, wrap (u, v): the textures the materials use")
         .def_property_readonly("has_emitter", [](const PyScene& s) { return s.scene().hasEmitter(); })
-        .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; }, "the loader's non-fatal notes");
+        .def_property_readonly(
+            "warnings", [](const PyScene& s) { return s.scene().warnings; }, "the loader's non-fatal notes");
 }
 
 }  // namespace
 
 void registerScene(py::module_& m) {
-    auto cls =     py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene", R"(A loaded scene: triangles with Phong materials, emitters, a camera.
+    auto cls =
+        py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene", R"(A loaded scene: triangles with Phong materials, emitters, a camera.
 
 Scene(spec) is load_scene(spec). The acceleration structure is built on the first render and kept.)")
-        .def(py::init(&loadPyScene), py::arg("spec"))
-        .def_property_readonly("name", [](const PyScene& s) { return s.scene().name; }, "the scene's name (output files are named after it)")
-        .def_property_readonly("spec", &PyScene::spec, "what it was loaded from: 'cornell' or the file's path")
-        .def_property_readonly("triangle_count", [](const PyScene& s) { return s.scene().triangles.size(); })
-        .def_property_readonly("vertex_count", [](const PyScene& s) { return s.scene().positions.size(); })
-        .def_property_readonly(
-            "materials",
-            [](const PyScene& s) {
-                py::list out;
-                for (const PhongMaterial& mat : s.scene().materials) {
+            .def(py::init(&loadPyScene), py::arg("spec"))
+            .def_property_readonly(
+                "name", [](const PyScene& s) { return s.scene().name; }, "the scene's name (output files are named after it)")
+            .def_property_readonly("spec", &PyScene::spec, "what it was loaded from: 'cornell' or the file's path")
+            .def_property_readonly("triangle_count", [](const PyScene& s) { return s.scene().triangles.size(); })
+            .def_property_readonly("vertex_count", [](const PyScene& s) { return s.scene().positions.size(); })
+            .def_property_readonly(
+                "materials",
+                [](const PyScene& s) {
+                    py::list out;
+                    for (const PhongMaterial& mat : s.scene().materials) {
+                        py::dict d;
+                        d["name"] = mat.name;
+                        d["rho_d"] = py::make_tuple(mat.rhoD.x, mat.rhoD.y, mat.rhoD.z);
+                        d["rho_s"] = py::make_tuple(mat.rhoS.x, mat.rhoS.y, mat.rhoS.z);
+                        d["n"] = mat.exponent;
+                        d["emission"] = py::make_tuple(mat.emission.x, mat.emission.y, mat.emission.z);
+                        out.append(d);
+                    }
+                    return out;
+                },
+                "list of dicts: name, rho_d, rho_s (RGB tuples), n (Phong exponent), emission (RGB radiance)")
+            .def_property_readonly(
+                "camera",
+                [](const PyScene& s) {
+                    const Camera& c = s.scene().camera;
                     py::dict d;
-                    d["name"] = mat.name;
-                    d["rho_d"] = py::make_tuple(mat.rhoD.x, mat.rhoD.y, mat.rhoD.z);
-                    d["rho_s"] = py::make_tuple(mat.rhoS.x, mat.rhoS.y, mat.rhoS.z);
-                    d["n"] = mat.exponent;
-                    d["emission"] = py::make_tuple(mat.emission.x, mat.emission.y, mat.emission.z);
-                    out.append(d);
-                }
-                return out;
-            },
-            "list of dicts: name, rho_d, rho_s (RGB tuples), n (Phong exponent), emission (RGB radiance)")
-        .def_property_readonly(
-            "camera",
-            [](const PyScene& s) {
-                const Camera& c = s.scene().camera;
-                py::dict d;
-                d["position"] = py::make_tuple(c.position.x, c.position.y, c.position.z);
-                d["target"] = py::make_tuple(c.target.x, c.target.y, c.target.z);
-                d["up"] = py::make_tuple(c.up.x, c.up.y, c.up.z);
-                d["fov_y"] = c.fovY;
-                return d;
-            },
-            "dict: position, target, up (tuples), fov_y (vertical field of view, degrees)")
-        .def_property_readonly(
-            "bounds",
-            [](const PyScene& s) {
-                Vec3 lo, hi;
-                s.scene().bounds(lo, hi);
-                return py::make_tuple(py::make_tuple(lo.x, lo.y, lo.z), py::make_tuple(hi.x, hi.y, hi.z));
-            },
-            "((xmin, ymin, zmin), (xmax, ymax, zmax)): the axis-aligned bounding box")
-        .def_property_readonly("environment", [](const PyScene& s) {
-            const Color& e = s.scene().environment;
-            return py::make_tuple(e.x, e.y, e.z);
-        }, "RGB radiance arriving from directions that leave the scene");
+                    d["position"] = py::make_tuple(c.position.x, c.position.y, c.position.z);
+                    d["target"] = py::make_tuple(c.target.x, c.target.y, c.target.z);
+                    d["up"] = py::make_tuple(c.up.x, c.up.y, c.up.z);
+                    d["fov_y"] = c.fovY;
+                    return d;
+                },
+                "dict: position, target, up (tuples), fov_y (vertical field of view, degrees)")
+            .def_property_readonly(
+                "bounds",
+                [](const PyScene& s) {
+                    Vec3 lo, hi;
+                    s.scene().bounds(lo, hi);
+                    return py::make_tuple(py::make_tuple(lo.x, lo.y, lo.z), py::make_tuple(hi.x, hi.y, hi.z));
+                },
+                "((xmin, ymin, zmin), (xmax, ymax, zmax)): the axis-aligned bounding box")
+            .def_property_readonly(
+                "environment",
+                [](const PyScene& s) {
+                    const Color& e = s.scene().environment;
+                    return py::make_tuple(e.x, e.y, e.z);
+                },
+                "RGB radiance arriving from directions that leave the scene");
     bindSceneArrays(cls);
     bindSceneEmitters(cls);
-    cls        .def("info", [](const PyScene& s) { return describeScene(s.scene(), s.spec()); },
-             "The text `symphong info` prints for this scene: triangles, bounds, camera, materials, lights, environment,\n"
-             "textures and warnings.")
+    cls.def(
+           "info", [](const PyScene& s) { return describeScene(s.scene(), s.spec()); },
+           "The text `symphong info` prints for this scene: triangles, bounds, camera, materials, lights, environment,\n"
+           "textures and warnings.")
         .def("__repr__", [](const PyScene& s) {
             return fmt::format("<symphong.Scene '{}' from '{}': {} triangles, {} materials>", s.scene().name, s.spec(),
                                s.scene().triangles.size(), s.scene().materials.size());
@@ -227,8 +236,6 @@ spec is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl be
 file (docs/scene-format.md). Raises FileNotFoundError for a missing file and ValueError for any other bad
 input, with the message `symphong render` prints (file, line, value). The loader's warnings are in
 Scene.warnings.)");
-
-
 }
 
 }  // namespace symphong

@@ -27,11 +27,14 @@ T castOrTypeError(const py::handle& value, const std::string& key, const char* e
     try {
         return py::cast<T>(value);
     } catch (const py::cast_error&) {
-        throw py::type_error(fmt::format("{}: expected {}, got {}", key, expected, py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
+        throw py::type_error(
+            fmt::format("{}: expected {}, got {}", key, expected, py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
     }
 }
 
-inline std::string formatBound(double v) { return v == std::floor(v) && std::abs(v) < 1e15 ? fmt::format("{:.0f}", v) : fmt::format("{:g}", v); }
+inline std::string formatBound(double v) {
+    return v == std::floor(v) && std::abs(v) < 1e15 ? fmt::format("{:.0f}", v) : fmt::format("{:g}", v);
+}
 
 /// A number's check against a field's range and allowed values: ValueError (InputError) naming the key.
 template <class S>

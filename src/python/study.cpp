@@ -88,7 +88,8 @@ void registerStudy(py::module_& m) {
     static const std::string furnace = furnaceDoc(), study = studyDoc();
     m.def("furnace", &furnacePy, furnace.c_str());
     m.def("study", &studyPy, study.c_str(), py::arg("scene") = "cornell");
-    m.def("environments", [] { return environmentNames(); }, "The furnace's environment names.");
+    m.def(
+        "environments", [] { return environmentNames(); }, "The furnace's environment names.");
 }
 
 }  // namespace symphong

@@ -49,8 +49,8 @@ std::string describeTextures(const Scene& s) {
                                   static_cast<double>(textureBytes) / (1024.0 * 1024.0), s.uvs.size());
     for (std::size_t i = 0; i < s.textures.size(); ++i) {
         const Texture& t = s.textures[i];
-        out += fmt::format("  {:<3} {} x {}, {} channel{}, wrap {}/{}: {}\n", i, t.width(), t.height(), t.channels(), t.channels() > 1 ? "s" : "",
-                           wrapModeName(t.wrapU), wrapModeName(t.wrapV), t.name());
+        out += fmt::format("  {:<3} {} x {}, {} channel{}, wrap {}/{}: {}\n", i, t.width(), t.height(), t.channels(),
+                           t.channels() > 1 ? "s" : "", wrapModeName(t.wrapU), wrapModeName(t.wrapV), t.name());
     }
     return out;
 }

@@ -104,7 +104,8 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const bool frontFace = dot(ng, d) < 0;
 
     Color L(0.0);
-    if (mat.isEmissive() && frontFace) L += (textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission) * emissionWeight(hit, d, depth, prevMisPdf);
+    if (mat.isEmissive() && frontFace)
+        L += (textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission) * emissionWeight(hit, d, depth, prevMisPdf);
     if (depth >= settings_.maxDepth) return L;
 
     if (!frontFace) ng = -ng;
@@ -245,7 +246,8 @@ Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {
     const Emitter& background = emitters_.background();
     double w = 1.0;
     if (depth > 0 && environmentSampling_)
-        w = powerHeuristic(prevMisPdf, background.pdfOfHit(dir, std::numeric_limits<double>::infinity(), emitters_.backgroundProbability()));
+        w = powerHeuristic(prevMisPdf,
+                           background.pdfOfHit(dir, std::numeric_limits<double>::infinity(), emitters_.backgroundProbability()));
     return background.backgroundRadiance(dir) * w;
 }
 

@@ -6,8 +6,8 @@
 
 #include "accel/accel.h"
 #include "estimators/estimator.h"
-#include "math/frame.h"
 #include "lights/emitters.h"
+#include "math/frame.h"
 #include "scene/scene.h"
 #include "util/cache_line.h"
 
@@ -18,9 +18,9 @@
 namespace symphong {
 
 struct TraceSettings {
-    int maxDepth = 16;     ///< most scattering events on a path; 0 shows emitters only
-    int rrDepth = 3;       ///< Russian roulette from this depth on
-    bool nextEvent = true; ///< light sampling (next-event estimation) combined by MIS
+    int maxDepth = 16;      ///< most scattering events on a path; 0 shows emitters only
+    int rrDepth = 3;        ///< Russian roulette from this depth on
+    bool nextEvent = true;  ///< light sampling (next-event estimation) combined by MIS
     /// First-hit splitting: the estimator is called this many times at the first hit (sub-samples j of
     /// k of the camera sample, SampleStream::split), each direction weighted 1/k and continued as a path
     /// of its own; 1: no splitting.
@@ -44,15 +44,16 @@ struct TraceStats {
 /// given depth and path, so no two decisions share a value and every sampler sees the same layout.
 /// Path 0 is the camera sample's own path; a set estimator's branches at the first hit are paths 1..K.
 struct SampleDimensions {
-    static constexpr std::uint64_t kPixel = 0;            ///< pair: position inside the pixel
+    static constexpr std::uint64_t kPixel = 0;  ///< pair: position inside the pixel
     static constexpr std::uint64_t kFirstBounce = 2;
-    static constexpr std::uint64_t kPerBounce = 8;        ///< dimensions of one path vertex:
-    static constexpr std::uint64_t kLight = 0;            ///<   pair: emitter choice (folded into u) and point
-    static constexpr std::uint64_t kEstimator = 2;        ///<   up to 5: the estimator's one direction
-    static constexpr std::uint64_t kRoulette = 7;         ///<   Russian roulette on arriving at this vertex
-    static constexpr std::uint64_t kPathStride = 1u << 14;  ///< > kPerBounce x (max depth 1024 + 1)
+    static constexpr std::uint64_t kPerBounce = 8;                   ///< dimensions of one path vertex:
+    static constexpr std::uint64_t kLight = 0;                       ///<   pair: emitter choice (folded into u) and point
+    static constexpr std::uint64_t kEstimator = 2;                   ///<   up to 5: the estimator's one direction
+    static constexpr std::uint64_t kRoulette = 7;                    ///<   Russian roulette on arriving at this vertex
+    static constexpr std::uint64_t kPathStride = 1u << 14;           ///< > kPerBounce x (max depth 1024 + 1)
     static constexpr std::uint64_t kFirstHitEstimator = 1ull << 40;  ///< the first hit's estimator: a block of any size
-    static constexpr std::uint64_t kFirstHitStreamStride = 1ull << 32;  ///< TraceSettings::firstBounceStream s reads from kFirstHitEstimator + s x this
+    static constexpr std::uint64_t kFirstHitStreamStride =
+        1ull << 32;  ///< TraceSettings::firstBounceStream s reads from kFirstHitEstimator + s x this
     /// First dimension of the vertex at `depth` of path `path`.
     static constexpr std::uint64_t vertex(int depth, std::uint64_t path) {
         return kFirstBounce + path * kPathStride + static_cast<std::uint64_t>(depth) * kPerBounce;
@@ -61,19 +62,19 @@ struct SampleDimensions {
 
 /// The continuing rays of a branching vertex (a set estimator's directions), traced together.
 struct RayBundle {
-    struct Ray {              ///< what ray i continues with; its world direction is dirs[i]
-        Color weight;         ///< the estimator's weight
-        Color next;           ///< throughput that steers roulette further on
+    struct Ray {       ///< what ray i continues with; its world direction is dirs[i]
+        Color weight;  ///< the estimator's weight
+        Color next;    ///< throughput that steers roulette further on
         double misPdf;
-        double survive;       ///< Russian roulette survival probability (already passed)
-        std::uint64_t path;   ///< the branch's path number (its dimensions)
+        double survive;      ///< Russian roulette survival probability (already passed)
+        std::uint64_t path;  ///< the branch's path number (its dimensions)
     };
     // Written by one thread on every branching vertex: each buffer alone on its cache lines.
     CacheLineVector<Ray> rays;
-    CacheLineVector<Vec3> dirs;     ///< world directions, contiguous for Accel::intersectBundle
+    CacheLineVector<Vec3> dirs;  ///< world directions, contiguous for Accel::intersectBundle
     CacheLineVector<Hit> hits;
-    CacheLineArray<bool> found;     ///< not std::vector<bool>, which has no bool* to hand to Accel
-    std::size_t capacity = 0;       ///< length of `found`
+    CacheLineArray<bool> found;  ///< not std::vector<bool>, which has no bool* to hand to Accel
+    std::size_t capacity = 0;    ///< length of `found`
 };
 
 /// Per-thread working memory of the path tracer.
@@ -104,8 +105,8 @@ private:
                    PathContext& pc) const;
     /// The vertex that o + t d reached (hit, or nullptr when it left the scene): its emission, NEE and
     /// continuation.
-    Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf,
-                const Color& throughput, PathContext& pc) const;
+    Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
+                PathContext& pc) const;
     /// A branching vertex's rays, traced together from `origin` and each continued as its own path.
     Color traceBundle(const Vec3& origin, RayBundle& bundle, int depth, PathContext& pc) const;
     Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng) const;
@@ -131,10 +132,10 @@ private:
     std::vector<std::uint8_t> textured_;  ///< per material: whether it has any texture (one byte to test on the hot path)
     std::vector<double> areas_;
     SceneEmitters emitters_;
-    bool triangleSampling_;  ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
+    bool triangleSampling_;     ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
     bool environmentSampling_;  ///< NEE + MIS of the environment map, on the same terms as the triangles
-    bool lightSampling_;     ///< NEE at all: triangles or environment as above, or delta lights (always sampled)
-    double epsilon_ = 1e-4;  ///< ray offset, relative to the scene's size
+    bool lightSampling_;        ///< NEE at all: triangles or environment as above, or delta lights (always sampled)
+    double epsilon_ = 1e-4;     ///< ray offset, relative to the scene's size
 };
 
 }  // namespace symphong

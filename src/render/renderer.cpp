@@ -2,12 +2,12 @@
 
 #include "io/memory.h"
 
-#include <oneapi/tbb/version.h>
 #include <fmt/format.h>
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
+#include <oneapi/tbb/version.h>
 
 #include <chrono>
 #include <cmath>
@@ -17,7 +17,8 @@
 namespace symphong {
 
 void requireImageMemory(int width, int height) {
-    const std::uint64_t pixels = saturatingMultiply(static_cast<std::uint64_t>(std::max(0, width)), static_cast<std::uint64_t>(std::max(0, height)));
+    const std::uint64_t pixels =
+        saturatingMultiply(static_cast<std::uint64_t>(std::max(0, width)), static_cast<std::uint64_t>(std::max(0, height)));
     requireMemory(saturatingMultiply(pixels, 96), fmt::format("image size {}x{}", width, height));
 }
 
@@ -85,8 +86,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
                     result.variance.at(x, y) = var / spp;
                 }
             }
-            if (progress) progress->fetch_add(static_cast<std::uint64_t>(x1 - x0) * spp,
-                                              std::memory_order_relaxed);
+            if (progress) progress->fetch_add(static_cast<std::uint64_t>(x1 - x0) * spp, std::memory_order_relaxed);
         }
         {
             std::lock_guard<std::mutex> lock(statsMutex);
@@ -98,8 +98,7 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
 
     // --threads N means N threads even above the core count (TBB otherwise caps its workers there).
     std::optional<tbb::global_control> allow;
-    if (settings.threads > 0)
-        allow.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(settings.threads));
+    if (settings.threads > 0) allow.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(settings.threads));
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         if (!settings.tiles) {

@@ -45,7 +45,7 @@ struct RenderSettings {
     std::uint32_t spp = 64;
     std::uint64_t seed = 1;
     std::string sampler = std::string(kDefaultSampler);  ///< unless the estimator requires its own
-    int threads = 0;  ///< 0: all hardware threads
+    int threads = 0;                                     ///< 0: all hardware threads
     TraceSettings trace;
     /// When set and it becomes true, remaining tiles are skipped and the result is marked cancelled.
     const std::atomic<bool>* cancel = nullptr;

@@ -22,7 +22,8 @@ const schema::Schema<RenderOptions>& renderSchema() {
         schema::Schema<RenderOptions> s;
         s.push_back(F("scene", "scene", "cornell, FILE.obj, FILE.gltf/.glb/.ply/.fbx/.dae/.3ds or FILE.json", member(&RenderOptions::scene))
                         .only(schema::kCli | schema::kJson));
-        s.push_back(F("estimator", "--estimator,-e", "reflected-radiance estimator: " + fmt::format("{}", fmt::join(estimatorNames(), ", ")),
+        s.push_back(F("estimator", "--estimator,-e",
+                      "reflected-radiance estimator: " + fmt::format("{}", fmt::join(estimatorNames(), ", ")),
                       member(&RenderOptions::estimator)));
         s.push_back(F("sampler", "--sampler", "sample generator: " + fmt::format("{}", fmt::join(samplerNames(), ", ")),
                       member(&RenderOptions::sampler))

@@ -209,9 +209,9 @@ constexpr std::uint32_t permuteIndex(std::uint32_t i, std::uint32_t n, std::uint
 
 namespace detail {
 /// A primitive (so irreducible) polynomial of degree k over GF(2), k = 0..20, with its x^k bit.
-inline constexpr std::uint32_t kIrreducible[21] = {0x1,     0x3,     0x7,     0xB,     0x13,    0x25,    0x43,
-                                                   0x83,    0x11D,   0x211,   0x409,   0x805,   0x1053,  0x201B,
-                                                   0x4443,  0x8003,  0x1100B, 0x20009, 0x40081, 0x80027, 0x100009};
+inline constexpr std::uint32_t kIrreducible[21] = {0x1,    0x3,    0x7,     0xB,     0x13,    0x25,    0x43,
+                                                   0x83,   0x11D,  0x211,   0x409,   0x805,   0x1053,  0x201B,
+                                                   0x4443, 0x8003, 0x1100B, 0x20009, 0x40081, 0x80027, 0x100009};
 
 /// a * b in GF(2^k) (carry-less product reduced by kIrreducible[k]); a, b < 2^k. Branch-free, k steps:
 /// the bits of b are random, so branches on them would be mispredicted half the time.

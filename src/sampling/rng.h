@@ -23,8 +23,8 @@ public:
     Rng(std::uint64_t seed, std::uint64_t stream) : gen_(seed, stream) {}
 
     double uniform() {
-        const std::uint64_t hi = gen_() >> 5;  // 27 bits
-        const std::uint64_t lo = gen_() >> 6;  // 26 bits
+        const std::uint64_t hi = gen_() >> 5;                                      // 27 bits
+        const std::uint64_t lo = gen_() >> 6;                                      // 26 bits
         return static_cast<double>((hi << 26) | lo) * (1.0 / 9007199254740992.0);  // / 2^53
     }
     Point2 uniform2() {

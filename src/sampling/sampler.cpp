@@ -84,7 +84,8 @@ Vec3 SobolSampler::value3D(std::uint64_t key, std::uint32_t index, std::uint32_t
             fixedToUnit(owenScramble(kSobolDimension2(j), s2))};
 }
 
-Point2 SobolSampler::value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const {
+Point2 SobolSampler::value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim,
+                                  std::uint64_t partner) const {
     const std::uint32_t j = permuteAny(index, count, pairPermutationSeed(mixSeed(key, 2 * partner)));
     const std::uint64_t h = mixSeed(key, 2 * dim);
     return {fixedToUnit(owenScramble(kSobolDimension2(j), low32(h))), fixedToUnit(owenScramble(kSobolDimension3(j), high32(h)))};

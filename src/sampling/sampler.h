@@ -44,7 +44,8 @@ public:
     /// the samples' points in the two pairs are matched jointly instead of independently (sobol: Sobol'
     /// dimensions 2 and 3 at the index order of the partner pair). Each value stays uniform on its own.
     /// Default (samplers without a 4D pattern): value2D.
-    virtual Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const {
+    virtual Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim,
+                                std::uint64_t partner) const {
         (void)partner;
         return value2D(key, index, count, dim);
     }
@@ -57,9 +58,13 @@ public:
     }
 
     /// Dimension `dim` of camera sample `index` of pixel `pixel`.
-    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const { return value1D(pixelKey(pixel), index, spp_, dim); }
+    double sample1D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const {
+        return value1D(pixelKey(pixel), index, spp_, dim);
+    }
     /// Dimensions (dim, dim+1) of camera sample `index` of pixel `pixel`.
-    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const { return value2D(pixelKey(pixel), index, spp_, dim); }
+    Point2 sample2D(std::uint64_t pixel, std::uint32_t index, std::uint64_t dim) const {
+        return value2D(pixelKey(pixel), index, spp_, dim);
+    }
 
     std::uint32_t samplesPerPixel() const { return spp_; }
     std::uint64_t seed() const { return seed_; }
@@ -104,7 +109,8 @@ public:
     double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
     Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
     /// (owen(sobol_2(j), s_0'), owen(sobol_3(j), s_1')), j the partner pair's permuted index, s' hashed from dim.
-    Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const override;
+    Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim,
+                        std::uint64_t partner) const override;
     /// Sobol' dimensions 0, 1 and 2 at one permuted index: one permutation instead of two.
     Vec3 value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
 };
@@ -124,7 +130,8 @@ public:
     Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override {
         return dim == dim_ ? inner_.value2DJoint(key, index, count, dim, partner_) : inner_.value2D(key, index, count, dim);
     }
-    Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint64_t partner) const override {
+    Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim,
+                        std::uint64_t partner) const override {
         return inner_.value2DJoint(key, index, count, dim, partner);
     }
     Vec3 value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override {

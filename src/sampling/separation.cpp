@@ -10,15 +10,11 @@ int octantOf(const Vec3& w) {
     return std::min(7, static_cast<int>(phi / (kPi / 4.0)));
 }
 
-Piece pieceOf(const Vec3& w) {
-    return {inTriangles(w) ? PieceKind::Triangle : PieceKind::Quadrangle, octantOf(w)};
-}
+Piece pieceOf(const Vec3& w) { return {inTriangles(w) ? PieceKind::Triangle : PieceKind::Quadrangle, octantOf(w)}; }
 
 namespace {
 
-Vec3 fromAngles(double theta, double phi) {
-    return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
+Vec3 fromAngles(double theta, double phi) { return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)}; }
 
 }  // namespace
 
@@ -79,8 +75,7 @@ struct QuadrangleInverse {
         const double x = std::clamp(area / kQuadrangleProjected, 0.0, 1.0) * kKnots;
         const int i = std::min(kKnots - 1, static_cast<int>(x));
         const double s = x - i, s2 = s * s, s3 = s2 * s;
-        return (2 * s3 - 3 * s2 + 1) * t[i] + (s3 - 2 * s2 + s) * slope[i] + (3 * s2 - 2 * s3) * t[i + 1] +
-               (s3 - s2) * slope[i + 1];
+        return (2 * s3 - 3 * s2 + 1) * t[i] + (s3 - 2 * s2 + s) * slope[i] + (3 * s2 - 2 * s3) * t[i + 1] + (s3 - s2) * slope[i + 1];
     }
 };
 

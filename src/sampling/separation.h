@@ -40,14 +40,22 @@ struct Piece {
 /// These are the paper's symmetric twins P_0..P_7 ("change of the signs and/or places of X0 and Y0").
 inline Vec3 toOctant(const Vec3& w, int k) {
     switch (k & 7) {
-        case 0: return {w.x, w.y, w.z};
-        case 1: return {w.y, w.x, w.z};
-        case 2: return {-w.y, w.x, w.z};
-        case 3: return {-w.x, w.y, w.z};
-        case 4: return {-w.x, -w.y, w.z};
-        case 5: return {-w.y, -w.x, w.z};
-        case 6: return {w.y, -w.x, w.z};
-        default: return {w.x, -w.y, w.z};
+        case 0:
+            return {w.x, w.y, w.z};
+        case 1:
+            return {w.y, w.x, w.z};
+        case 2:
+            return {-w.y, w.x, w.z};
+        case 3:
+            return {-w.x, w.y, w.z};
+        case 4:
+            return {-w.x, -w.y, w.z};
+        case 5:
+            return {-w.y, -w.x, w.z};
+        case 6:
+            return {w.y, -w.x, w.z};
+        default:
+            return {w.x, -w.y, w.z};
     }
 }
 
@@ -148,8 +156,8 @@ Vec3 phongWedgeMap(Point2 p, double n);
 /// (0, -sin theta_s, cos theta_s); then R_X(theta_s) carries +Z onto r. When r is the normal, the
 /// frame is the local one.
 struct LobeFrame {
-    Vec3 ex, ey;                 ///< turned X and Y axes in the local frame (Z is the normal)
-    double cosS = 1, sinS = 0;   ///< cos and sin of theta_s, the angle between normal and r
+    Vec3 ex, ey;                ///< turned X and Y axes in the local frame (Z is the normal)
+    double cosS = 1, sinS = 0;  ///< cos and sin of theta_s, the angle between normal and r
 
     static LobeFrame fromMirror(const Vec3& r);
     /// R_X(theta_s):  (X, Y cos - Z sin, Z cos + Y sin)  (the paper's rotation matrix), then to local.

@@ -45,12 +45,8 @@ inline double cosineHemispherePdf(const Vec3& w) { return w.z > 0 ? w.z * kInvPi
 
 /// Phong lobe around +Z: cos(alpha) = u^(1/(n+1)), phi = 2 pi v.  p(w) = (n+1)/(2 pi) cos^n(alpha),
 /// over the whole sphere's upper cap around the axis (alpha in [0, pi/2]).
-inline Vec3 samplePhongLobe(Point2 p, double n) {
-    return sphericalDirection(std::pow(p.u, 1.0 / (n + 1.0)), kTwoPi * p.v);
-}
-inline double phongLobePdf(double cosAlpha, double n) {
-    return cosAlpha > 0 ? (n + 1.0) / kTwoPi * std::pow(cosAlpha, n) : 0.0;
-}
+inline Vec3 samplePhongLobe(Point2 p, double n) { return sphericalDirection(std::pow(p.u, 1.0 / (n + 1.0)), kTwoPi * p.v); }
+inline double phongLobePdf(double cosAlpha, double n) { return cosAlpha > 0 ? (n + 1.0) / kTwoPi * std::pow(cosAlpha, n) : 0.0; }
 
 /// Uniform point on a triangle as barycentrics (b0, b1); b2 = 1 - b0 - b1.  p = 1 / area.
 /// b0 = 1 - sqrt(u), b1 = v sqrt(u)  (Shirley and Chiu; pbrt-v3 UniformSampleTriangle).
@@ -60,8 +56,6 @@ inline Point2 sampleUniformTriangle(Point2 p) {
 }
 
 /// Jittered point in cell (i, j) of an nx x ny grid over [0,1)^2.
-inline Point2 jitterInStratum(int i, int j, int nx, int ny, Point2 jitter) {
-    return {(i + jitter.u) / nx, (j + jitter.v) / ny};
-}
+inline Point2 jitterInStratum(int i, int j, int nx, int ny, Point2 jitter) { return {(i + jitter.u) / nx, (j + jitter.v) / ny}; }
 
 }  // namespace symphong

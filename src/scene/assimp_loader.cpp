@@ -16,12 +16,12 @@
 #include <nlohmann/json.hpp>
 
 #include <assimp/GltfMaterial.h>
-#include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <assimp/version.h>
 #include <fmt/format.h>
+#include <assimp/Importer.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -80,9 +80,12 @@ aiMatrix4x4 nodeTransform(const std::vector<std::pair<std::string, aiMatrix4x4>>
 WrapMode wrapMode(int mode) {
     switch (mode) {
         case aiTextureMapMode_Clamp:
-        case aiTextureMapMode_Decal: return WrapMode::Clamp;
-        case aiTextureMapMode_Mirror: return WrapMode::Mirror;
-        default: return WrapMode::Repeat;
+        case aiTextureMapMode_Decal:
+            return WrapMode::Clamp;
+        case aiTextureMapMode_Mirror:
+            return WrapMode::Mirror;
+        default:
+            return WrapMode::Repeat;
     }
 }
 
@@ -112,7 +115,8 @@ TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType t
             return textureFrom8Bit(name, static_cast<int>(w), static_cast<int>(h), 4, rgba.data(), encoding);
         });
     } else {
-        if (file.C_Str()[0] == '*') throw InputError(fmt::format("{}: texture '{}' refers to an embedded image the file does not have", where, file.C_Str()));
+        if (file.C_Str()[0] == '*')
+            throw InputError(fmt::format("{}: texture '{}' refers to an embedded image the file does not have", where, file.C_Str()));
         std::filesystem::path f = file.C_Str();
         if (f.is_relative()) f = std::filesystem::path(path).parent_path() / f;
         ref.index = table.file(f.string(), encoding, where);
@@ -128,8 +132,8 @@ TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType t
 /// Attaches material index i's textures: Phong maps (diffuse, specular, shininess) or glTF's
 /// metallic-roughness ones (base colour, metallic-roughness), emissive, and a cut-out (an opacity map,
 /// or glTF's alphaMode MASK/BLEND on the base colour's alpha).
-void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, bool pbr, const aiColor4D& base, float metallic, float roughness,
-                    TextureTable& table, Scene& scene, const std::string& path) {
+void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, bool pbr, const aiColor4D& base, float metallic,
+                    float roughness, TextureTable& table, Scene& scene, const std::string& path) {
     MaterialTextures& tx = out.textures;
     const auto tex = [&](aiTextureType type, TextureEncoding enc) { return assimpTexture(ai, m, type, enc, table, scene, path, out.name); };
     if (pbr) {
@@ -146,7 +150,8 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
         if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) != "OPAQUE" && tx.diffuse.present()) {
             tx.alpha = tx.diffuse;
             if (std::string(mode.C_Str()) == "BLEND")
-                scene.warnings.push_back(fmt::format("{}: material '{}' blends by alpha; symphong renders it as a cut-out at alpha 1/2", path, out.name));
+                scene.warnings.push_back(
+                    fmt::format("{}: material '{}' blends by alpha; symphong renders it as a cut-out at alpha 1/2", path, out.name));
         }
     } else {
         tx.diffuse = tex(aiTextureType_DIFFUSE, TextureEncoding::Srgb);
@@ -159,10 +164,12 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
         float shininess;
         if (tx.exponent.present() && m.Get(AI_MATKEY_SHININESS, shininess) != AI_SUCCESS) out.exponent = 1000;
     }
-    for (const auto& [type, what] : {std::pair{aiTextureType_NORMALS, "normal"}, std::pair{aiTextureType_HEIGHT, "bump"},
-                                     std::pair{aiTextureType_DISPLACEMENT, "displacement"}, std::pair{aiTextureType_LIGHTMAP, "occlusion/light"}})
+    for (const auto& [type, what] :
+         {std::pair{aiTextureType_NORMALS, "normal"}, std::pair{aiTextureType_HEIGHT, "bump"},
+          std::pair{aiTextureType_DISPLACEMENT, "displacement"}, std::pair{aiTextureType_LIGHTMAP, "occlusion/light"}})
         if (m.GetTextureCount(type) > 0)
-            scene.warnings.push_back(fmt::format("{}: material '{}': its {} map is not supported by symphong; ignored", path, out.name, what));
+            scene.warnings.push_back(
+                fmt::format("{}: material '{}': its {} map is not supported by symphong; ignored", path, out.name, what));
     tx.emission = tex(aiTextureType_EMISSIVE, TextureEncoding::Srgb);
     if (!tx.alpha.present()) tx.alpha = tex(aiTextureType_OPACITY, TextureEncoding::Linear);
 }
@@ -170,7 +177,8 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
 /// One material: Phong/Blinn parameters directly (diffuse -> rho_d, specular -> rho_s, shininess -> n,
 /// emissive -> Le); a glTF metallic-roughness material by the stated approximation
 /// (materials/phong.h metallicRoughnessToPhong); emission times KHR_materials_emissive_strength.
-PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, TextureTable& table, Scene& scene, const std::string& path) {
+PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, TextureTable& table, Scene& scene,
+                          const std::string& path) {
     PhongMaterial out;
     aiString name;
     out.name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0 ? name.C_Str() : fmt::format("material{}", index);
@@ -213,7 +221,8 @@ nlohmann::json gltfJson(const std::string& path) {
             throw InputError(fmt::format("{}: not a glTF binary (no 'glTF' header followed by a JSON chunk)", path));
         std::uint32_t length = 0;
         std::memcpy(&length, bytes.data() + 12, 4);
-        if (length > bytes.size() - 20) throw InputError(fmt::format("{}: the glTF binary's JSON chunk runs past the end of the file", path));
+        if (length > bytes.size() - 20)
+            throw InputError(fmt::format("{}: the glTF binary's JSON chunk runs past the end of the file", path));
         text = bytes.substr(20, length);
     }
     nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
@@ -235,11 +244,14 @@ void checkGltfPrimitives(const nlohmann::json& gltf, const std::string& path) {
         for (std::size_t p = 0; p < primitives.size(); ++p) {
             const nlohmann::json& prim = primitives[p];
             const std::string where = fmt::format("{}: meshes[{}].primitives[{}]", path, m, p);
-            if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object() || !prim["attributes"].contains("POSITION"))
+            if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object() ||
+                !prim["attributes"].contains("POSITION"))
                 throw InputError(fmt::format("{} has no POSITION attribute", where));
             for (const auto& item : prim["attributes"].items())
-                if (!validAccessor(item.value())) throw InputError(fmt::format("{}.attributes.{} is not an accessor of the file", where, item.key()));
-            if (prim.contains("indices") && !validAccessor(prim["indices"])) throw InputError(fmt::format("{}.indices is not an accessor of the file", where));
+                if (!validAccessor(item.value()))
+                    throw InputError(fmt::format("{}.attributes.{} is not an accessor of the file", where, item.key()));
+            if (prim.contains("indices") && !validAccessor(prim["indices"]))
+                throw InputError(fmt::format("{}.indices is not an accessor of the file", where));
         }
     }
 }
@@ -289,7 +301,8 @@ void addMesh(const aiMesh* mesh, const aiMatrix4x4& world, const aiMatrix3x3& no
         t.material = material;
         for (int c = 0; c < 3; ++c) {
             const unsigned idx = face.mIndices[c];
-            if (idx >= mesh->mNumVertices) throw InputError(fmt::format("{}: mesh '{}' face {} has a vertex index out of range", path, mesh->mName.C_Str(), f));
+            if (idx >= mesh->mNumVertices)
+                throw InputError(fmt::format("{}: mesh '{}' face {} has a vertex index out of range", path, mesh->mName.C_Str(), f));
             t.v[static_cast<std::size_t>(c)] = base + idx;
             t.n[static_cast<std::size_t>(c)] = mesh->mNormals ? normalBase + static_cast<std::int32_t>(idx) : -1;
             t.t[static_cast<std::size_t>(c)] = hasUvs ? uvBase + static_cast<std::int32_t>(idx) : -1;
@@ -341,8 +354,12 @@ void addLight(const aiLight& l, const std::vector<std::pair<std::string, aiMatri
     if (length(light.direction) == 0) light.direction = Vec3(0, -1, 0);
     light.direction = normalize(light.direction);
     switch (l.mType) {
-        case aiLightSource_POINT: light.type = Light::Type::Point; break;
-        case aiLightSource_DIRECTIONAL: light.type = Light::Type::Directional; break;
+        case aiLightSource_POINT:
+            light.type = Light::Type::Point;
+            break;
+        case aiLightSource_DIRECTIONAL:
+            light.type = Light::Type::Directional;
+            break;
         case aiLightSource_SPOT:
             // Half-angles from the axis, as glTF gives them.
             light.type = Light::Type::Spot;
@@ -351,7 +368,8 @@ void addLight(const aiLight& l, const std::vector<std::pair<std::string, aiMatri
             if (!(light.cosInner > light.cosOuter)) light.cosInner = std::min(1.0, light.cosOuter + 1e-3);
             break;
         default:
-            scene.warnings.push_back(fmt::format("{}: light '{}' is of a kind symphong does not have (area/ambient); ignored", path, l.mName.C_Str()));
+            scene.warnings.push_back(
+                fmt::format("{}: light '{}' is of a kind symphong does not have (area/ambient); ignored", path, l.mName.C_Str()));
             return;
     }
     if (isFinite(light.intensity) && minComponent(light.intensity) >= 0) scene.lights.push_back(light);
@@ -377,7 +395,8 @@ Scene loadAssimp(const std::string& path) {
     if (scene.materials.empty()) scene.materials.push_back(PhongMaterial{});
     if (gltf.is_object() && gltf.contains("materials") && gltf["materials"].is_array())
         for (std::size_t i = 0; i < gltf["materials"].size() && i < scene.materials.size(); ++i) {
-            const nlohmann::json strength = member(gltf, fmt::format("/materials/{}/extensions/KHR_materials_emissive_strength/emissiveStrength", i));
+            const nlohmann::json strength =
+                member(gltf, fmt::format("/materials/{}/extensions/KHR_materials_emissive_strength/emissiveStrength", i));
             if (strength.is_number() && std::isfinite(strength.get<double>()) && strength.get<double>() >= 0)
                 scene.materials[i].emission *= strength.get<double>();
         }

@@ -15,9 +15,12 @@ EnvironmentMap::EnvironmentMap(Texture image, double scale, double rotationDegre
     luminanceIntegral_ = 0;
     std::vector<double> lum(weights.size());
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) lum[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] = scale_ * luminance(image_.texelRgb(x, y));
+        for (int x = 0; x < w; ++x)
+            lum[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+                scale_ * luminance(image_.texelRgb(x, y));
     const auto at = [&](int x, int y) {
-        return lum[static_cast<std::size_t>(wrapIndex(y, h, WrapMode::Clamp)) * static_cast<std::size_t>(w) + static_cast<std::size_t>(wrapIndex(x, w, WrapMode::Repeat))];
+        return lum[static_cast<std::size_t>(wrapIndex(y, h, WrapMode::Clamp)) * static_cast<std::size_t>(w) +
+                   static_cast<std::size_t>(wrapIndex(x, w, WrapMode::Repeat))];
     };
     for (int y = 0; y < h; ++y) {
         // Texel (x, y) covers theta in [pi y / H, pi (y+1) / H]: its density over the image is made

@@ -132,9 +132,12 @@ void addLight(Scene& scene, const json& j, const std::string& where, const std::
         light.position = vec3(j["position"], where + ".position", path);
     }
     if (directional || light.type == Light::Type::Spot) {
-        if (j.contains("target")) light.direction = vec3(j["target"], where + ".target", path) - light.position;
-        else if (j.contains("direction")) light.direction = vec3(j["direction"], where + ".direction", path);
-        else throw InputError(fmt::format("{}: {} ({}) needs \"direction\"", path, where, type));
+        if (j.contains("target"))
+            light.direction = vec3(j["target"], where + ".target", path) - light.position;
+        else if (j.contains("direction"))
+            light.direction = vec3(j["direction"], where + ".direction", path);
+        else
+            throw InputError(fmt::format("{}: {} ({}) needs \"direction\"", path, where, type));
         if (length(light.direction) == 0) throw InputError(fmt::format("{}: {}: the direction is zero", path, where));
         light.direction = normalize(light.direction);
     }
@@ -154,7 +157,8 @@ EnvironmentMap environmentMap(const json& e, const std::filesystem::path& dir, c
     const double rotation = e.contains("rotation") ? number(e["rotation"], "environment.rotation", path) : 0.0;
     EnvironmentMap::Filter filter = EnvironmentMap::Filter::Bilinear;
     if (e.contains("filter")) {
-        if (e["filter"] == "nearest") filter = EnvironmentMap::Filter::Nearest;
+        if (e["filter"] == "nearest")
+            filter = EnvironmentMap::Filter::Nearest;
         else if (e["filter"] != "bilinear")
             throw InputError(fmt::format("{}: environment.filter {} is not \"bilinear\" or \"nearest\"", path, brief(e["filter"])));
     }
@@ -219,8 +223,8 @@ Scene loadGeometry(const json& doc, const std::filesystem::path& dir, const std:
     if (file.is_relative()) file = dir / file;
     const std::string ext = lowerExtension(file.string());
     if (std::string(key) == "mesh" && ext != ".obj" && !isAssimpExtension(file.string()))
-        throw InputError(fmt::format("{}: \"mesh\": {}: not a format symphong reads (.obj, .gltf, .glb, .ply, .fbx, .dae, .3ds)", path,
-                                     file.string()));
+        throw InputError(
+            fmt::format("{}: \"mesh\": {}: not a format symphong reads (.obj, .gltf, .glb, .ply, .fbx, .dae, .3ds)", path, file.string()));
     try {
         // A camera from the file (glTF, FBX, Collada) is the scene's own, as the built-in box's.
         cameraFromData = ext != ".obj";
@@ -251,7 +255,8 @@ void overrideMaterials(Scene& scene, const json& mats, const std::string& path) 
         if (m.contains("ke")) mat.emission = nonNegativeColor(m["ke"], where + ".ke", path);
         if (m.contains("ns")) {
             mat.exponent = number(m["ns"], where + ".ns", path);
-            if (mat.exponent < 0) throw InputError(fmt::format("{}: {}.ns = {} is negative (a Phong exponent must be >= 0)", path, where, mat.exponent));
+            if (mat.exponent < 0)
+                throw InputError(fmt::format("{}: {}.ns = {} is negative (a Phong exponent must be >= 0)", path, where, mat.exponent));
         }
     }
 }

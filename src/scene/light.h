@@ -13,8 +13,8 @@ namespace symphong {
 struct Light {
     enum class Type { Point, Spot, Directional };
     Type type = Type::Point;
-    Vec3 position{0, 0, 0};   ///< point, spot
-    Vec3 direction{0, -1, 0}; ///< spot: its axis; directional: the direction the light travels (unit length)
+    Vec3 position{0, 0, 0};    ///< point, spot
+    Vec3 direction{0, -1, 0};  ///< spot: its axis; directional: the direction the light travels (unit length)
     /// Point, spot: radiant intensity I, so a surface at distance d facing it receives E = I / d^2.
     /// Directional: the irradiance E of a surface facing it.
     Color intensity{1.0};

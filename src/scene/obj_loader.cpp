@@ -56,8 +56,10 @@ void forEachLine(const std::string& text, Fn&& fn) {
     std::string normalized = text;
     for (std::size_t i = 0; i < normalized.size(); ++i)
         if (normalized[i] == '\r') {
-            if (i + 1 < normalized.size() && normalized[i + 1] == '\n') normalized[i] = ' ';
-            else normalized[i] = '\n';
+            if (i + 1 < normalized.size() && normalized[i + 1] == '\n')
+                normalized[i] = ' ';
+            else
+                normalized[i] = '\n';
         }
     std::istringstream in(normalized);
     std::string line;
@@ -121,15 +123,15 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
                     if (!part.empty()) {
                         char* end = nullptr;
                         const long idx = std::strtol(part.c_str(), &end, 10);
-                        if (*end != '\0')
-                            throw InputError(fmt::format("{}:{}: face index '{}' is not an integer", path, line, w[i]));
+                        if (*end != '\0') throw InputError(fmt::format("{}:{}: face index '{}' is not an integer", path, line, w[i]));
                         if (idx == 0)
-                            throw InputError(fmt::format("{}:{}: face {} index 0 in '{}' (OBJ indices start at 1)", path, line, kinds[k], w[i]));
+                            throw InputError(
+                                fmt::format("{}:{}: face {} index 0 in '{}' (OBJ indices start at 1)", path, line, kinds[k], w[i]));
                         const long defined = static_cast<long>(scan.counts[k]);
                         const long resolved = idx > 0 ? idx : defined + idx + 1;
                         if (resolved < 1 || resolved > defined)
-                            throw InputError(fmt::format("{}:{}: face {} index {} in '{}' is out of range ({} defined so far)",
-                                                         path, line, kinds[k], idx, w[i], defined));
+                            throw InputError(fmt::format("{}:{}: face {} index {} in '{}' is out of range ({} defined so far)", path, line,
+                                                         kinds[k], idx, w[i], defined));
                     } else if (k == 0) {
                         throw InputError(fmt::format("{}:{}: face corner '{}' has no vertex index", path, line, w[i]));
                     }
@@ -160,8 +162,10 @@ MtlKeys validateMtl(const std::string& path, const std::string& text) {
     std::string current;
     forEachLine(text, [&](int line, const std::vector<std::string>& w) {
         const std::string& key = w[0];
-        if (key == "newmtl" && w.size() >= 2) current = trim(w[1]);
-        else keys[current].keys.emplace(key, line);
+        if (key == "newmtl" && w.size() >= 2)
+            current = trim(w[1]);
+        else
+            keys[current].keys.emplace(key, line);
         const bool colour = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ka";
         if (!colour && key != "Ns") return;
         if (colour && w.size() >= 2 && (w[1] == "spectral" || w[1] == "xyz")) return;  // not used by symphong
@@ -211,7 +215,6 @@ void copyAttributes(const tinyobj::attrib_t& attrib, Scene& scene) {
         scene.normals.push_back(len > 0 ? n / len : Vec3(0, 0, 1));
     }
     for (std::size_t i = 0; i + 1 < attrib.texcoords.size(); i += 2) scene.uvs.push_back({attrib.texcoords[i], attrib.texcoords[i + 1]});
-
 }
 
 /// One MTL material as a Phong material with its texture maps; `keys` says which keys the file gave.
@@ -234,13 +237,16 @@ PhongMaterial objMaterial(const tinyobj::material_t& mt, const MtlMaterial& stat
     MaterialTextures& tx = m.textures;
     tx.diffuse = mtlTexture(table, mtlDir, mt.diffuse_texname, mt.diffuse_texopt, TextureEncoding::Srgb, where("map_Kd"), scene);
     tx.specular = mtlTexture(table, mtlDir, mt.specular_texname, mt.specular_texopt, TextureEncoding::Srgb, where("map_Ks"), scene);
-    tx.exponent = mtlTexture(table, mtlDir, mt.specular_highlight_texname, mt.specular_highlight_texopt, TextureEncoding::Linear, where("map_Ns"), scene);
+    tx.exponent = mtlTexture(table, mtlDir, mt.specular_highlight_texname, mt.specular_highlight_texopt, TextureEncoding::Linear,
+                             where("map_Ns"), scene);
     tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"), scene);
     tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"), scene);
-    for (const auto& [key, file] : {std::pair{"bump", mt.bump_texname}, std::pair{"norm", mt.normal_texname}, std::pair{"disp", mt.displacement_texname},
-                                    std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})
+    for (const auto& [key, file] :
+         {std::pair{"bump", mt.bump_texname}, std::pair{"norm", mt.normal_texname}, std::pair{"disp", mt.displacement_texname},
+          std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})
         if (!file.empty())
-            scene.warnings.push_back(fmt::format("{}: material '{}': {} map '{}' is not supported by symphong; ignored", mtlFile, m.name, key, file));
+            scene.warnings.push_back(
+                fmt::format("{}: material '{}': {} map '{}' is not supported by symphong; ignored", mtlFile, m.name, key, file));
     if (tx.diffuse.present() && !keys.count("Kd")) m.rhoD = Color(1.0);
     if (tx.specular.present() && !keys.count("Ks")) m.rhoS = Color(1.0);
     if (tx.exponent.present() && !keys.count("Ns")) m.exponent = 1000;

@@ -30,9 +30,12 @@ int Scene::findMaterial(const std::string& n) const {
 
 const char* lightTypeName(Light::Type type) {
     switch (type) {
-        case Light::Type::Point: return "point";
-        case Light::Type::Spot: return "spot";
-        case Light::Type::Directional: return "directional";
+        case Light::Type::Point:
+            return "point";
+        case Light::Type::Spot:
+            return "spot";
+        case Light::Type::Directional:
+            return "directional";
     }
     return "?";
 }
@@ -55,8 +58,9 @@ Camera Scene::automaticCamera(double fovY) const {
     const double azimuth = 35.0 * kPi / 180.0, elevation = 20.0 * kPi / 180.0;
     bool emissiveTriangles = false;
     for (const Triangle& t : triangles) emissiveTriangles = emissiveTriangles || materials[t.material].isEmissive();
-    const Vec3 from = emissiveTriangles ? Vec3(0, 0, 1)
-                                   : Vec3(std::sin(azimuth) * std::cos(elevation), std::sin(elevation), std::cos(azimuth) * std::cos(elevation));
+    const Vec3 from = emissiveTriangles
+                          ? Vec3(0, 0, 1)
+                          : Vec3(std::sin(azimuth) * std::cos(elevation), std::sin(elevation), std::cos(azimuth) * std::cos(elevation));
     Camera c;
     c.position = center + from * distance;
     c.target = center;
@@ -78,20 +82,23 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
                 continue;
             }
             if (validateAndClampPhong(m))
-                scene.warnings.push_back(fmt::format(
-                    "{}: material '{}' reflects more than it receives (Kd + Ks > 1); scaled down to Kd = ({:.3g}, {:.3g}, {:.3g}), Ks = ({:.3g}, {:.3g}, {:.3g})",
-                    source, m.name, m.rhoD.x, m.rhoD.y, m.rhoD.z, m.rhoS.x, m.rhoS.y, m.rhoS.z));
+                scene.warnings.push_back(
+                    fmt::format("{}: material '{}' reflects more than it receives (Kd + Ks > 1); scaled down to Kd = ({:.3g}, {:.3g}, "
+                                "{:.3g}), Ks = ({:.3g}, {:.3g}, {:.3g})",
+                                source, m.name, m.rhoD.x, m.rhoD.y, m.rhoD.z, m.rhoS.x, m.rhoS.y, m.rhoS.z));
         } catch (const std::invalid_argument& e) {
             throw InputError(fmt::format("{}: {}", source, e.what()));
         }
     }
     // Embree traces in single precision: coordinates beyond 1e30 (or not finite) cannot be converted.
     constexpr double kMaxCoordinate = 1e30;
-    const auto inRange = [&](const Vec3& v) { return isFinite(v) && std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}) <= kMaxCoordinate; };
+    const auto inRange = [&](const Vec3& v) {
+        return isFinite(v) && std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}) <= kMaxCoordinate;
+    };
     for (std::size_t i = 0; i < scene.positions.size(); ++i)
         if (!inRange(scene.positions[i]))
-            throw InputError(fmt::format("{}: vertex {} ({}, {}, {}) is not finite or beyond +-1e30", source, i, scene.positions[i].x, scene.positions[i].y,
-                                         scene.positions[i].z));
+            throw InputError(fmt::format("{}: vertex {} ({}, {}, {}) is not finite or beyond +-1e30", source, i, scene.positions[i].x,
+                                         scene.positions[i].y, scene.positions[i].z));
     for (const Vec3& n : scene.normals)
         if (!isFinite(n)) throw InputError(fmt::format("{}: a shading normal is not finite", source));
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
@@ -100,7 +107,8 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
         if (!isFinite(l.position) || !isFinite(l.direction) || !isFinite(l.intensity) || minComponent(l.intensity) < 0 ||
             !std::isfinite(l.cosInner) || !std::isfinite(l.cosOuter))
             throw InputError(fmt::format("{}: lights[{}] ({}) has a non-finite or negative value", source, i, lightTypeName(l.type)));
-        if (length(l.direction) == 0) throw InputError(fmt::format("{}: lights[{}] ({}) has a zero direction", source, i, lightTypeName(l.type)));
+        if (length(l.direction) == 0)
+            throw InputError(fmt::format("{}: lights[{}] ({}) has a zero direction", source, i, lightTypeName(l.type)));
         l.direction = normalize(l.direction);
         if (l.type == Light::Type::Spot && !(l.cosOuter < l.cosInner))
             throw InputError(fmt::format("{}: lights[{}] (spot): the inner cone must be narrower than the outer one", source, i));
@@ -110,23 +118,22 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
     const Camera& c = scene.camera;
     if (!inRange(c.position) || !inRange(c.target) || !isFinite(c.up) || !std::isfinite(c.fovY))
         throw InputError(fmt::format("{}: camera has a non-finite value (or a coordinate beyond +-1e30)", source));
-    if (!(c.fovY > 0 && c.fovY < 180))
-        throw InputError(fmt::format("{}: camera fov {} must lie in (0, 180) degrees", source, c.fovY));
-    if (length(c.target - c.position) == 0)
-        throw InputError(fmt::format("{}: camera position and target coincide", source));
+    if (!(c.fovY > 0 && c.fovY < 180)) throw InputError(fmt::format("{}: camera fov {} must lie in (0, 180) degrees", source, c.fovY));
+    if (length(c.target - c.position) == 0) throw InputError(fmt::format("{}: camera position and target coincide", source));
     if (length(cross(c.target - c.position, c.up)) == 0)
         throw InputError(fmt::format("{}: camera up vector is parallel to the viewing direction", source));
     for (const Triangle& t : scene.triangles)
         for (std::int32_t i : t.t)
-            if (i >= static_cast<std::int64_t>(scene.uvs.size())) throw InputError(fmt::format("{}: a texture coordinate index is out of range", source));
+            if (i >= static_cast<std::int64_t>(scene.uvs.size()))
+                throw InputError(fmt::format("{}: a texture coordinate index is out of range", source));
     if (!scene.hasEmitter() && !environmentGiven) {
         scene.sky = Sky{};
         scene.lights.push_back(defaultSun());
-        scene.warnings.push_back(fmt::format(
-            "{}: the scene has no light of any kind (no material with Ke > 0, no light, no environment); lighting it with "
-            "the default sky (white at the horizon, blue at the zenith, grey ground) and a sun from above the viewer's left "
-            "(irradiance 1.6). Set \"environment\" or \"lights\" in a JSON scene file to change this.",
-            source));
+        scene.warnings.push_back(
+            fmt::format("{}: the scene has no light of any kind (no material with Ke > 0, no light, no environment); lighting it with "
+                        "the default sky (white at the horizon, blue at the zenith, grey ground) and a sun from above the viewer's left "
+                        "(irradiance 1.6). Set \"environment\" or \"lights\" in a JSON scene file to change this.",
+                        source));
     }
 }
 
@@ -157,7 +164,8 @@ Scene loadSceneUnguarded(const std::string& spec) {
         finalizeScene(s, spec, false);
         return s;
     }
-    throw InputError(fmt::format("{}: unknown scene (expected 'cornell', a .obj, .gltf, .glb, .ply, .fbx, .dae or .3ds file, or a .json scene file)", spec));
+    throw InputError(fmt::format(
+        "{}: unknown scene (expected 'cornell', a .obj, .gltf, .glb, .ply, .fbx, .dae or .3ds file, or a .json scene file)", spec));
 }
 
 }  // namespace

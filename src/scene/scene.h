@@ -29,7 +29,7 @@ struct Camera {
 };
 
 struct Triangle {
-    std::array<std::uint32_t, 3> v{};        ///< indices into Scene::positions
+    std::array<std::uint32_t, 3> v{};           ///< indices into Scene::positions
     std::array<std::int32_t, 3> n{-1, -1, -1};  ///< indices into Scene::normals, -1 when absent
     std::uint32_t material = 0;
     std::array<std::int32_t, 3> t{-1, -1, -1};  ///< indices into Scene::uvs, -1 when absent
@@ -38,15 +38,15 @@ struct Triangle {
 struct Scene {
     std::string name = "scene";
     std::vector<Vec3> positions;
-    std::vector<Vec3> normals;  ///< optional smoothing normals (unit length)
+    std::vector<Vec3> normals;               ///< optional smoothing normals (unit length)
     std::vector<std::array<double, 2>> uvs;  ///< optional texture coordinates (u right, v up)
     std::vector<Triangle> triangles;
     std::vector<PhongMaterial> materials;
     std::vector<Texture> textures;  ///< what the materials' TextureRefs index
-    std::vector<Light> lights;  ///< point, spot and directional lights (emissive triangles are materials)
+    std::vector<Light> lights;      ///< point, spot and directional lights (emissive triangles are materials)
     Camera camera;
-    Color environment{0.0};  ///< radiance arriving from directions that leave the scene
-    std::optional<Sky> sky;  ///< when set, rays that leave the scene see the sky instead of `environment`
+    Color environment{0.0};                        ///< radiance arriving from directions that leave the scene
+    std::optional<Sky> sky;                        ///< when set, rays that leave the scene see the sky instead of `environment`
     std::optional<EnvironmentMap> environmentMap;  ///< when set, they see this image (and it is light-sampled)
     std::vector<std::string> warnings;
 

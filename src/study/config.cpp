@@ -24,11 +24,13 @@ const schema::Schema<StudyOptions>& studySchema() {
     using O = StudyOptions;
     static const schema::Schema<StudyOptions> fields = [] {
         schema::Schema<StudyOptions> s;
-        s.push_back(F("scene", "scene", "cornell, FILE.obj or FILE.json", ref<O>([](O& o) -> auto& { return o.config.scene; }))
+        s.push_back(F("scene", "scene", "cornell, FILE.obj or FILE.json", ref<O>([](O & o) -> auto& { return o.config.scene; }))
                         .only(schema::kCli | schema::kJson));
-        s.push_back(F("estimators", "--estimators,-e", "estimators, comma-separated, or all", schema::member(&O::estimators)).listOfNames());
-        s.push_back(F("samplers", "--samplers", "samplers, comma-separated, or all: every estimator runs under each", schema::member(&O::samplers))
-                        .listOfNames());
+        s.push_back(
+            F("estimators", "--estimators,-e", "estimators, comma-separated, or all", schema::member(&O::estimators)).listOfNames());
+        s.push_back(
+            F("samplers", "--samplers", "samplers, comma-separated, or all: every estimator runs under each", schema::member(&O::samplers))
+                .listOfNames());
         s.push_back(F("symmetric_modes", "--symmetric-modes", "modes of paper and symmetric*, comma-separated: branch, spread, or all",
                       schema::member(&O::modes))
                         .listOfNames());
@@ -36,7 +38,7 @@ const schema::Schema<StudyOptions>& studySchema() {
         s.push_back(F("splits", "--splits",
                       "first-hit splitting: for each K > 1 also run every estimator of --split-estimators with K directions per "
                       "camera sample from its first hit (a variant '+splitK'), comma-separated",
-                      ref<O>([](O& o) -> auto& { return o.config.splits; }))
+                      ref<O>([](O & o) -> auto& { return o.config.splits; }))
                         .range(1, 64)
                         .noDefaultShown());
         s.push_back(F("split_estimators", "--split-estimators", "the estimators that --splits applies to, comma-separated",
@@ -45,40 +47,42 @@ const schema::Schema<StudyOptions>& studySchema() {
         s.push_back(F("budget_pairs", "--budget-pairs",
                       "variance budget: pairs of renders per variant at the top spp that differ only in the first bounce's random "
                       "numbers; the report gives the first bounce's share of the pixel variance (0: none)",
-                      ref<O>([](O& o) -> auto& { return o.config.budgetPairs; }))
+                      ref<O>([](O & o) -> auto& { return o.config.budgetPairs; }))
                         .range(0, 64));
         s.push_back(F("joint_first_bounce", "--joint-first-bounce",
                       "every render with the pixel position and the first bounce from one 4D Sobol' pattern (render --joint-first-bounce)",
-                      ref<O>([](O& o) -> auto& { return o.config.jointFirstBounce; })));
-        s.push_back(F("repeats", "--repeats,-R", "independent renders per estimator and spp", ref<O>([](O& o) -> auto& { return o.config.repeats; }))
+                      ref<O>([](O & o) -> auto& { return o.config.jointFirstBounce; })));
+        s.push_back(F("repeats", "--repeats,-R", "independent renders per estimator and spp",
+                      ref<O>([](O & o) -> auto& { return o.config.repeats; }))
                         .range(1, 1000));
         s.push_back(F("reference", "--reference", "reference image (linear EXR of the same size) instead of rendering one",
-                      ref<O>([](O& o) -> auto& { return o.config.referencePath; }))
+                      ref<O>([](O & o) -> auto& { return o.config.referencePath; }))
                         .noDefaultShown()
                         .orNone());
         s.push_back(F("reference_spp", "--reference-spp", "samples per pixel of the rendered reference",
-                      ref<O>([](O& o) -> auto& { return o.config.referenceSpp; }))
+                      ref<O>([](O & o) -> auto& { return o.config.referenceSpp; }))
                         .range(1, 10000000));
         s.push_back(F("reference_estimator", "--reference-estimator", "unbiased estimator for the reference",
-                      ref<O>([](O& o) -> auto& { return o.config.referenceEstimator; })));
+                      ref<O>([](O & o) -> auto& { return o.config.referenceEstimator; })));
         s.push_back(F("reference_sampler", "--reference-sampler", "sampler of the reference (independent: its own noise is known)",
-                      ref<O>([](O& o) -> auto& { return o.config.referenceSampler; }))
+                      ref<O>([](O & o) -> auto& { return o.config.referenceSampler; }))
                         .namedFrom(samplerNames)
                         .checkedBy(checkSamplerName));
-        s.push_back(F("out", "--out,-o", "output directory", ref<O>([](O& o) -> auto& { return o.config.outDir; })));
-        s.push_back(F("width", "--width,-W", "image width", ref<O>([](O& o) -> auto& { return o.config.width; })).range(1, 4096));
-        s.push_back(F("height", "--height,-H", "image height", ref<O>([](O& o) -> auto& { return o.config.height; })).range(1, 4096));
-        s.push_back(F("max_depth", "--max-depth,-d", "most scattering events per path", ref<O>([](O& o) -> auto& { return o.config.maxDepth; }))
-                        .range(0, 1024));
-        s.push_back(F("seed", "--seed", "random seed", ref<O>([](O& o) -> auto& { return o.config.seed; })));
-        s.push_back(F("threads", "--threads,-t", "worker threads, 0 = all cores", ref<O>([](O& o) -> auto& { return o.config.threads; }))
+        s.push_back(F("out", "--out,-o", "output directory", ref<O>([](O & o) -> auto& { return o.config.outDir; })));
+        s.push_back(F("width", "--width,-W", "image width", ref<O>([](O & o) -> auto& { return o.config.width; })).range(1, 4096));
+        s.push_back(F("height", "--height,-H", "image height", ref<O>([](O & o) -> auto& { return o.config.height; })).range(1, 4096));
+        s.push_back(
+            F("max_depth", "--max-depth,-d", "most scattering events per path", ref<O>([](O & o) -> auto& { return o.config.maxDepth; }))
+                .range(0, 1024));
+        s.push_back(F("seed", "--seed", "random seed", ref<O>([](O & o) -> auto& { return o.config.seed; })));
+        s.push_back(F("threads", "--threads,-t", "worker threads, 0 = all cores", ref<O>([](O & o) -> auto& { return o.config.threads; }))
                         .range(0, 4096));
         s.push_back(F("heatmap_spp", "--heatmap-spp", "spp of the heat maps and crops (default: the middle --spp value)",
-                      ref<O>([](O& o) -> auto& { return o.config.heatmapSpp; }))
+                      ref<O>([](O & o) -> auto& { return o.config.heatmapSpp; }))
                         .range(0, 1000000)
                         .noDefaultShown());
         s.push_back(F("python", "--python", "python3 with matplotlib for the plots (default: /usr/bin/python3, then python3)",
-                      ref<O>([](O& o) -> auto& { return o.config.python; }))
+                      ref<O>([](O & o) -> auto& { return o.config.python; }))
                         .noDefaultShown()
                         .orNone());
         s.push_back(F("no_plots", "--no-plots", "skip the plots", schema::member(&O::noPlots)).python("plots", true));
@@ -97,41 +101,45 @@ const schema::Schema<FurnaceOptions>& furnaceSchema() {
     static const schema::Schema<FurnaceOptions> fields = [] {
         schema::Schema<FurnaceOptions> s;
         s.push_back(F("estimators", "--estimator,-e", "estimators, comma-separated, or all", schema::member(&O::estimators)).listOfNames());
-        s.push_back(F("environments", "--environment", "environments, comma-separated, or all", schema::member(&O::environments)).listOfNames());
-        s.push_back(F("rho_d", "--rho-d", "diffuse albedo", ref<O>([](O& o) -> auto& { return o.table.rhoD; })).range(0.0, 1.0));
-        s.push_back(F("rho_s", "--rho-s", "specular albedo", ref<O>([](O& o) -> auto& { return o.table.rhoS; })).range(0.0, 1.0));
-        s.push_back(F("n", "--n", "Phong exponents", ref<O>([](O& o) -> auto& { return o.table.exponents; }))
+        s.push_back(
+            F("environments", "--environment", "environments, comma-separated, or all", schema::member(&O::environments)).listOfNames());
+        s.push_back(F("rho_d", "--rho-d", "diffuse albedo", ref<O>([](O & o) -> auto& { return o.table.rhoD; })).range(0.0, 1.0));
+        s.push_back(F("rho_s", "--rho-s", "specular albedo", ref<O>([](O & o) -> auto& { return o.table.rhoS; })).range(0.0, 1.0));
+        s.push_back(F("n", "--n", "Phong exponents", ref<O>([](O & o) -> auto& { return o.table.exponents; }))
                         .range(0.0, 1e6)
                         .rangeOnCommandLineOnly());
-        s.push_back(F("theta", "--theta", "view angles from the normal, degrees", ref<O>([](O& o) -> auto& { return o.table.thetas; }))
+        s.push_back(F("theta", "--theta", "view angles from the normal, degrees", ref<O>([](O & o) -> auto& { return o.table.thetas; }))
                         .range(0.0, 89.9)
                         .rangeOnCommandLineOnly());
-        s.push_back(F("phi", "--phi", "view azimuth, degrees", ref<O>([](O& o) -> auto& { return o.table.phiDeg; })).range(-360.0, 360.0));
-        s.push_back(F("repeats", "--repeats,-M", "independent estimates", ref<O>([](O& o) -> auto& { return o.table.repeats; }))
+        s.push_back(F("phi", "--phi", "view azimuth, degrees", ref<O>([](O & o) -> auto& { return o.table.phiDeg; })).range(-360.0, 360.0));
+        s.push_back(F("repeats", "--repeats,-M", "independent estimates", ref<O>([](O & o) -> auto& { return o.table.repeats; }))
                         .range(2, 100000000));
-        s.push_back(F("seed", "--seed", "random seed", ref<O>([](O& o) -> auto& { return o.table.seed; })));
+        s.push_back(F("seed", "--seed", "random seed", ref<O>([](O & o) -> auto& { return o.table.seed; })));
         s.push_back(F("sampler", "--sampler", "sample generator: " + fmt::format("{}", fmt::join(samplerNames(), ", ")),
-                      ref<O>([](O& o) -> auto& { return o.table.sampler; }))
+                      ref<O>([](O & o) -> auto& { return o.table.sampler; }))
                         .namedFrom(samplerNames)
                         .checkedBy(checkSamplerName));
         s.push_back(F("directions", "--directions", "calls per estimate for one-direction estimators",
-                      ref<O>([](O& o) -> auto& { return o.table.directions; }))
+                      ref<O>([](O & o) -> auto& { return o.table.directions; }))
                         .range(1, 1000000));
         s.push_back(F("disk_theta", "--disk-theta", "disk light: polar angle, degrees",
-                      ref<O>([](O& o) -> auto& { return o.table.environment.diskTheta; }))
+                      ref<O>([](O & o) -> auto& { return o.table.environment.diskTheta; }))
                         .range(0.0, 180.0));
-        s.push_back(F("disk_phi", "--disk-phi", "disk light: azimuth, degrees", ref<O>([](O& o) -> auto& { return o.table.environment.diskPhi; }))
-                        .range(-360.0, 360.0));
+        s.push_back(
+            F("disk_phi", "--disk-phi", "disk light: azimuth, degrees", ref<O>([](O & o) -> auto& { return o.table.environment.diskPhi; }))
+                .range(-360.0, 360.0));
         s.push_back(F("disk_radius", "--disk-radius", "disk light: angular radius, degrees",
-                      ref<O>([](O& o) -> auto& { return o.table.environment.diskRadius; }))
+                      ref<O>([](O & o) -> auto& { return o.table.environment.diskRadius; }))
                         .range(0.01, 89.9));
-        s.push_back(F("band", "--band", "horizon band height, degrees", ref<O>([](O& o) -> auto& { return o.table.environment.bandDegrees; }))
-                        .range(0.01, 90.0));
+        s.push_back(
+            F("band", "--band", "horizon band height, degrees", ref<O>([](O & o) -> auto& { return o.table.environment.bandDegrees; }))
+                .range(0.01, 90.0));
         s.push_back(F("grid", "--grid", "n in {1,10,100,1000,10000} x theta in {0,30,60,85}", schema::member(&O::grid)));
         s.push_back(F("json", "--json", "also write the results as JSON to this file", schema::member(&O::json))
                         .only(schema::kCli)
                         .noDefaultShown());
-        for (auto& f : schema::nested(schema::nested(estimatorOptionsSchema(), &FurnaceTable::options), &O::table)) s.push_back(std::move(f));
+        for (auto& f : schema::nested(schema::nested(estimatorOptionsSchema(), &FurnaceTable::options), &O::table))
+            s.push_back(std::move(f));
         return s;
     }();
     return fields;

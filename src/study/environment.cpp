@@ -35,12 +35,14 @@ Environment makeEnvironment(const std::string& name, const EnvironmentParams& p)
         e.c0 = 0.5, e.c1 = 0.4, e.c2 = 0.3;
         e.description = "sky gradient L = 0.5 + 0.4 t + 0.3 t^2, t = w . normalize(0.4, -0.3, 0.85)";
     } else if (name == "disk") {
-        if (!(p.diskRadius > 0 && p.diskRadius < 90)) throw std::invalid_argument(fmt::format("disk radius {} must lie in (0, 90) degrees", p.diskRadius));
+        if (!(p.diskRadius > 0 && p.diskRadius < 90))
+            throw std::invalid_argument(fmt::format("disk radius {} must lie in (0, 90) degrees", p.diskRadius));
         const double t = p.diskTheta * deg, ph = p.diskPhi * deg;
         e.caps.push_back({Vec3(std::sin(t) * std::cos(ph), std::sin(t) * std::sin(ph), std::cos(t)), std::cos(p.diskRadius * deg)});
         e.description = fmt::format("disk light L = 1 of radius {} deg at theta {} deg, phi {} deg", p.diskRadius, p.diskTheta, p.diskPhi);
     } else if (name == "band") {
-        if (!(p.bandDegrees > 0 && p.bandDegrees <= 90)) throw std::invalid_argument(fmt::format("band height {} must lie in (0, 90] degrees", p.bandDegrees));
+        if (!(p.bandDegrees > 0 && p.bandDegrees <= 90))
+            throw std::invalid_argument(fmt::format("band height {} must lie in (0, 90] degrees", p.bandDegrees));
         e.caps.push_back({Vec3(0, 0, 1), 0.0});
         e.caps.push_back({Vec3(0, 0, -1), -std::sin(p.bandDegrees * deg)});
         e.description = fmt::format("L = 1 in the band 0 <= elevation <= {} deg above the horizon", p.bandDegrees);
@@ -120,8 +122,10 @@ double ringIntegral(const Frame& f, double alpha, const std::vector<SphericalCap
                 double lo = std::atan2(r, q) - half;
                 lo -= kTwoPi * std::floor(lo / kTwoPi);
                 const double hi = lo + 2 * half;
-                if (hi <= kTwoPi) set = {{lo, hi}};
-                else set = {{0.0, hi - kTwoPi}, {lo, kTwoPi}};
+                if (hi <= kTwoPi)
+                    set = {{lo, hi}};
+                else
+                    set = {{0.0, hi - kTwoPi}, {lo, kTwoPi}};
             }
         }
         allowed = intersect(allowed, set);

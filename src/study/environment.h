@@ -33,7 +33,7 @@ struct Environment {
 
 struct EnvironmentParams {
     double diskTheta = 30, diskPhi = 180, diskRadius = 10;  ///< degrees: disk light's direction and angular radius
-    double bandDegrees = 15;                                 ///< height of the horizon band
+    double bandDegrees = 15;                                ///< height of the horizon band
 };
 
 /// constant, gradient, disk, band, halfspace.

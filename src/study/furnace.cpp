@@ -33,9 +33,9 @@ FurnaceResult runFurnace(const FurnaceSetup& s, const Environment& env) {
 
     DirectionList out;
     const ShadingContext ctx{wo, &m, 0, true};
-    const int calls = estimator->returnsSets() ? 1
+    const int calls = estimator->returnsSets()            ? 1
                       : estimator->spreadSetSize(ctx) > 1 ? static_cast<int>(estimator->spreadSetSize(ctx))
-                                                           : s.directions;
+                                                          : s.directions;
     const auto sampler = makeSampler(r.sampler, static_cast<std::uint32_t>(calls), s.seed);
     double sum = 0, sumSq = 0, directions = 0;
     const auto start = std::chrono::steady_clock::now();
@@ -58,7 +58,8 @@ FurnaceResult runFurnace(const FurnaceSetup& s, const Environment& env) {
     r.variance = M > 1 ? std::max(0.0, (sumSq - sum * r.estimate) / (M - 1)) : 0.0;
     r.stdError = std::sqrt(r.variance / M);
     r.relativeBias = r.exact != 0 ? (r.estimate - r.exact) / r.exact : 0.0;
-    r.z = r.stdError > 0 ? (r.estimate - r.exact) / r.stdError : (std::abs(r.estimate - r.exact) <= 1e-9 * std::abs(r.exact) ? 0.0 : INFINITY);
+    r.z = r.stdError > 0 ? (r.estimate - r.exact) / r.stdError
+                         : (std::abs(r.estimate - r.exact) <= 1e-9 * std::abs(r.exact) ? 0.0 : INFINITY);
     r.directionsPerEstimate = directions / M;
     r.varianceTimesDirections = r.variance * r.directionsPerEstimate;
     r.secondsPerEstimate = seconds / M;
@@ -91,7 +92,8 @@ std::vector<FurnaceResult> runFurnaceTable(const FurnaceTable& t, const std::fun
             "the furnace table needs at least one estimator, environment, exponent and view angle");
     for (double n : t.exponents) require(n >= 0 && std::isfinite(n), fmt::format("n = {} must be a finite exponent >= 0", n));
     for (double theta : t.thetas)
-        require(theta >= 0 && theta < 90, fmt::format("theta = {} must lie in [0, 90) degrees (the view must be above the surface)", theta));
+        require(theta >= 0 && theta < 90,
+                fmt::format("theta = {} must lie in [0, 90) degrees (the view must be above the surface)", theta));
     for (const std::string& e : t.estimators) {
         try {
             makeEstimator(e, t.options);
@@ -135,11 +137,23 @@ std::string furnaceJson(const std::vector<FurnaceResult>& rows) {
     const auto finiteOrNull = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json out = nlohmann::json::array();
     for (const FurnaceResult& r : rows)
-        out.push_back({{"estimator", r.estimator}, {"sampler", r.sampler}, {"environment", r.environment}, {"rho_d", r.rhoD},
-                       {"rho_s", r.rhoS}, {"n", r.n}, {"theta_deg", r.thetaDeg}, {"repeats", r.repeats}, {"estimate", r.estimate},
-                       {"std_error", r.stdError}, {"exact", r.exact}, {"relative_bias", r.relativeBias}, {"z", finiteOrNull(r.z)},
-                       {"variance", r.variance}, {"directions_per_estimate", r.directionsPerEstimate},
-                       {"variance_times_directions", r.varianceTimesDirections}, {"seconds_per_estimate", r.secondsPerEstimate},
+        out.push_back({{"estimator", r.estimator},
+                       {"sampler", r.sampler},
+                       {"environment", r.environment},
+                       {"rho_d", r.rhoD},
+                       {"rho_s", r.rhoS},
+                       {"n", r.n},
+                       {"theta_deg", r.thetaDeg},
+                       {"repeats", r.repeats},
+                       {"estimate", r.estimate},
+                       {"std_error", r.stdError},
+                       {"exact", r.exact},
+                       {"relative_bias", r.relativeBias},
+                       {"z", finiteOrNull(r.z)},
+                       {"variance", r.variance},
+                       {"directions_per_estimate", r.directionsPerEstimate},
+                       {"variance_times_directions", r.varianceTimesDirections},
+                       {"seconds_per_estimate", r.secondsPerEstimate},
                        {"efficiency", finiteOrNull(r.efficiency)}});
     return out.dump(2) + "\n";
 }

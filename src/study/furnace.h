@@ -19,10 +19,10 @@ struct FurnaceSetup {
     std::string estimator = "symmetric";
     EstimatorOptions options;
     double rhoD = 0.3, rhoS = 0.6, n = 10, thetaDeg = 30;  ///< grey material and view angle from the normal
-    double phiDeg = 0;        ///< view azimuth
-    int repeats = 10000;      ///< M independent estimates
+    double phiDeg = 0;                                     ///< view azimuth
+    int repeats = 10000;                                   ///< M independent estimates
     std::uint64_t seed = 1;
-    int directions = 16;      ///< estimators that return one direction per call are called this many times per estimate
+    int directions = 16;  ///< estimators that return one direction per call are called this many times per estimate
     std::string sampler = std::string(kDefaultSampler);  ///< estimate r is pixel r, call i its sample i
     /// The exact reflected radiance when the caller already has it (several runs of one cell): skips
     /// its quadrature. NaN: computed.
@@ -35,11 +35,11 @@ struct FurnaceResult {
     int repeats = 0;
     double estimate = 0, stdError = 0, exact = 0;
     double relativeBias = 0, z = 0;
-    double variance = 0;             ///< variance of one estimate
+    double variance = 0;  ///< variance of one estimate
     double directionsPerEstimate = 0;
     double varianceTimesDirections = 0;  ///< per-direction variance: compares estimators at equal directions
     double secondsPerEstimate = 0;
-    double efficiency = 0;           ///< 1 / (variance * seconds per estimate)
+    double efficiency = 0;  ///< 1 / (variance * seconds per estimate)
 };
 
 /// Runs M estimates. One estimate is one call of a set-returning estimator (paper, symmetric: its whole

@@ -37,7 +37,8 @@ StudyRow measureRow(const StudyConfig& c, const std::string& sceneName, const St
     row.relMse = err.relMse;
     row.efficiency = 1.0 / (row.mse * std::max(row.seconds, 1e-9));
     row.efficiencyRel = row.relMse > 0 ? 1.0 / (row.relMse * std::max(row.seconds, 1e-9)) : 0.0;
-    for (const Color& v : r.variance.pixels) row.pixelVarianceWithin += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
+    for (const Color& v : r.variance.pixels)
+        row.pixelVarianceWithin += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
     return row;
 }
 

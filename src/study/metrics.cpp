@@ -53,8 +53,8 @@ MeanWithError meanLuminance(const Image& img, const Image* varianceOfMean) {
 
 double studentCritical(int dof) {
     // Solved numerically for P(|T| > t) = 6.334e-5, the normal distribution's two-sided tail at 4.
-    static constexpr double kTable[30] = {10000.82, 125.65, 32.62, 17.45, 12.28, 9.84, 8.47, 7.6, 7.0, 6.57,
-                                          6.24,     5.99,   5.78,  5.62,  5.48,  5.36, 5.26, 5.18, 5.1, 5.04,
+    static constexpr double kTable[30] = {10000.82, 125.65, 32.62, 17.45, 12.28, 9.84, 8.47, 7.6,  7.0,  6.57,
+                                          6.24,     5.99,   5.78,  5.62,  5.48,  5.36, 5.26, 5.18, 5.1,  5.04,
                                           4.98,     4.92,   4.88,  4.83,  4.8,   4.76, 4.73, 4.7,  4.67, 4.65};
     if (dof < 1) return INFINITY;
     if (dof <= 30) return kTable[dof - 1];

@@ -45,7 +45,8 @@ std::vector<StudyVariant> studyVariants(const StudyConfig& c) {
                     v.mode = mode;
                     v.split = split;
                     v.sampler = effectiveSampler(*probe, sampler);
-                    v.label = e + (set && mode == SymmetricMode::Spread ? "+spread" : "") + (split > 1 ? fmt::format("+split{}", split) : "");
+                    v.label =
+                        e + (set && mode == SymmetricMode::Spread ? "+spread" : "") + (split > 1 ? fmt::format("+split{}", split) : "");
                     if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
                     if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; })) out.push_back(v);
                 }
@@ -93,9 +94,16 @@ std::uint32_t checkConfig(StudyConfig& c) {
 }
 
 nlohmann::json referenceKey(const StudyConfig& c) {
-    return {{"scene", sceneFingerprint(c.scene)}, {"width", c.width}, {"height", c.height}, {"spp", c.referenceSpp},
-            {"estimator", c.referenceEstimator}, {"sampler", c.referenceSampler}, {"max_depth", c.maxDepth}, {"seed", c.seed},
-            {"symmetric_n", c.options.symmetricN}, {"version", 1}};
+    return {{"scene", sceneFingerprint(c.scene)},
+            {"width", c.width},
+            {"height", c.height},
+            {"spp", c.referenceSpp},
+            {"estimator", c.referenceEstimator},
+            {"sampler", c.referenceSampler},
+            {"max_depth", c.maxDepth},
+            {"seed", c.seed},
+            {"symmetric_n", c.options.symmetricN},
+            {"version", 1}};
 }
 
 EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v) {

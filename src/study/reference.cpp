@@ -53,11 +53,13 @@ Reference referenceFromRender(const StudyConfig& c, const RenderResult& r) {
 
 void writeReferenceCache(const Reference& ref, const nlohmann::json& key, double seconds, const fs::path& dir) {
     writeExr(ref.image, (dir / "reference.exr").string(), false);
-    writeFile((dir / "reference.json").string(),
-              nlohmann::json{{"key", key}, {"mean_luminance", ref.mean.mean}, {"mean_std_error", ref.mean.stdError},
-                             {"pixel_variance", ref.noise}, {"seconds", seconds}}
-                      .dump(2) +
-                  "\n");
+    writeFile((dir / "reference.json").string(), nlohmann::json{{"key", key},
+                                                                {"mean_luminance", ref.mean.mean},
+                                                                {"mean_std_error", ref.mean.stdError},
+                                                                {"pixel_variance", ref.noise},
+                                                                {"seconds", seconds}}
+                                                         .dump(2) +
+                                                     "\n");
 }
 
 }  // namespace symphong

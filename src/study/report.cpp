@@ -1,16 +1,16 @@
 // The study's report (report.md: the conclusion first, then the tables of equal samples and equal time,
 // the variance budget and the plots) and the plots themselves (the embedded scripts/plot_study.py).
+#include "estimators/registry.h"
 #include "io/files.h"
+#include "sampling/sampler_registry.h"
 #include "study/plot_script.h"
 #include "study/study_parts.h"
-#include "estimators/registry.h"
-#include "sampling/sampler_registry.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <algorithm>
 
 namespace fs = std::filesystem;
 
@@ -49,19 +49,25 @@ std::string reportHeader(const ReportInputs& in) {
         "Scene `{}`, {}x{} pixels, max depth {}, {} independent repeat(s) per variant and sample count, seed {}. {}\n"
         "A variant is an estimator under a sampler (`@sampler`), in spread mode for the set estimators (`+spread`), with "
         "K directions from each camera sample's first hit (`+splitK`).\n"
-        "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height {}{}{}{}`.\n\n",
+        "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height "
+        "{}{}{}{}`.\n\n",
         c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, in.reference.note, c.scene, fmt::join(c.estimators, ","),
         fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height,
-        c.splits.empty() ? "" : fmt::format(" --splits {} --split-estimators {}", fmt::join(c.splits, ","), fmt::join(c.splitEstimators, ",")),
-        std::string(c.budgetPairs > 0 ? fmt::format(" --budget-pairs {}", c.budgetPairs) : "") + (c.jointFirstBounce ? " --joint-first-bounce" : ""),
-        c.options.symmetricOrbit != EstimatorOptions{}.symmetricOrbit ? fmt::format(" --symmetric-orbit {}", c.options.symmetricOrbit) : "");
-    if (processes > 1) md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
+        c.splits.empty() ? ""
+                         : fmt::format(" --splits {} --split-estimators {}", fmt::join(c.splits, ","), fmt::join(c.splitEstimators, ",")),
+        std::string(c.budgetPairs > 0 ? fmt::format(" --budget-pairs {}", c.budgetPairs) : "") +
+            (c.jointFirstBounce ? " --joint-first-bounce" : ""),
+        c.options.symmetricOrbit != EstimatorOptions{}.symmetricOrbit ? fmt::format(" --symmetric-orbit {}", c.options.symmetricOrbit)
+                                                                      : "");
+    if (processes > 1)
+        md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
     md += "## Conclusion\n\n" + conclusion + "\n\n";
     for (const auto& s : summary)
         if (s.mse > 0 && in.reference.noise > 0.5 * s.mse) {
-            md += fmt::format("**Warning:** the reference's own noise ({:.3g}) is at least half of some estimators' squared error "
-                              "(`{}` at {} spp: {:.3g}); their RMSE and efficiency are uncertain. Raise --reference-spp.\n\n",
-                              in.reference.noise, s.variant, s.spp, s.mse);
+            md += fmt::format(
+                "**Warning:** the reference's own noise ({:.3g}) is at least half of some estimators' squared error "
+                "(`{}` at {} spp: {:.3g}); their RMSE and efficiency are uncertain. Raise --reference-spp.\n\n",
+                in.reference.noise, s.variant, s.spp, s.mse);
             break;
         }
     return md;
@@ -72,10 +78,12 @@ std::string reportPlots(const ReportInputs& in) {
     const bool plotted = in.plotted;
     const std::uint32_t heatSpp = in.heatSpp;
     if (plotted) {
-        md += "## Convergence\n\n![RMSE against samples per pixel](convergence_spp.png)\n\n"
-              "![RMSE against render time](convergence_time.png)\n\n"
-              "## Efficiency\n\n![Efficiency relative to cosine](efficiency.png)\n\n";
-        md += fmt::format("## Where the error is ({} spp)\n\n![Per-pixel relative error](heatmaps.png)\n\n![Crops](crops.png)\n\n", heatSpp);
+        md +=
+            "## Convergence\n\n![RMSE against samples per pixel](convergence_spp.png)\n\n"
+            "![RMSE against render time](convergence_time.png)\n\n"
+            "## Efficiency\n\n![Efficiency relative to cosine](efficiency.png)\n\n";
+        md +=
+            fmt::format("## Where the error is ({} spp)\n\n![Per-pixel relative error](heatmaps.png)\n\n![Crops](crops.png)\n\n", heatSpp);
     } else {
         md += "Plots were not made (no python3 with matplotlib); run `python3 scripts/plot_study.py` on this folder.\n\n";
     }
@@ -93,29 +101,33 @@ std::string reportBudget(const ReportInputs& in) {
             budget += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.0f}% |\n", s.variant, s.spp, s.pixelVariance, s.firstBounceVariance,
                                   100 * s.firstBounceShare());
     if (!budget.empty())
-        md += fmt::format("## Variance budget ({} pairs)\n\nMean pixel variance (luminance) across the repeats, and the part of it that "
-                          "comes from the first-bounce directions: the mean of (Y_1 - Y_2)^2 / 2 over pairs of renders that differ only in "
-                          "the first hit's estimator numbers (`--first-bounce-stream` 1 and 2), every other decision of the path keeping "
-                          "its numbers. The rest comes from the pixel position, light sampling and the deeper bounces (law of total "
-                          "variance). With few repeats each figure is uncertain by tens of percent.\n\n"
-                          "| variant | spp | pixel variance | from the first bounce | share |\n|---|---:|---:|---:|---:|\n{}\n",
-                          c.budgetPairs, budget);
+        md += fmt::format(
+            "## Variance budget ({} pairs)\n\nMean pixel variance (luminance) across the repeats, and the part of it that "
+            "comes from the first-bounce directions: the mean of (Y_1 - Y_2)^2 / 2 over pairs of renders that differ only in "
+            "the first hit's estimator numbers (`--first-bounce-stream` 1 and 2), every other decision of the path keeping "
+            "its numbers. The rest comes from the pixel position, light sampling and the deeper bounces (law of total "
+            "variance). With few repeats each figure is uncertain by tens of percent.\n\n"
+            "| variant | spp | pixel variance | from the first bounce | share |\n|---|---:|---:|---:|---:|\n{}\n",
+            c.budgetPairs, budget);
     return md;
 }
 
 std::string reportEqualSamples(const ReportInputs& in) {
     const std::vector<StudySummary>& summary = in.summary;
     std::string md;
-    md += "## Equal samples\n\nMedians over the repeats; RMSE of luminance against the reference (its own noise removed), "
-          "relMSE = mean of (Y - Y_ref)^2 / (Y_ref^2 + 0.01), bias of the mean image with its standard error (flagged when "
-          "|z| > 4), efficiency 1/(MSE x time), each the median over repeats (time: the mean), relative to `cosine` under the same sampler at the "
-          "same spp.\n\nThe last column is the same with relMSE in place of MSE.\n\n"
-          "| variant | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine | relMSE efficiency vs cosine |\n"
-          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    md +=
+        "## Equal samples\n\nMedians over the repeats; RMSE of luminance against the reference (its own noise removed), "
+        "relMSE = mean of (Y - Y_ref)^2 / (Y_ref^2 + 0.01), bias of the mean image with its standard error (flagged when "
+        "|z| > 4), efficiency 1/(MSE x time), each the median over repeats (time: the mean), relative to `cosine` under the same sampler "
+        "at the "
+        "same spp.\n\nThe last column is the same with relMSE in place of MSE.\n\n"
+        "| variant | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine | relMSE efficiency vs "
+        "cosine |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& s : summary) {
         const StudySummary* cos = sameSampler(summary, std::string(yardstickEstimator()), s);
-        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} | {} |\n", s.variant,
-                          s.spp, s.seconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance, 100 * s.relativeBias, 100 * s.biasStdError,
+        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} | {} |\n", s.variant, s.spp,
+                          s.seconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance, 100 * s.relativeBias, 100 * s.biasStdError,
                           s.biasSignificant ? " **biased**" : "", cos && cos->efficiency > 0 ? factor(s.efficiency / cos->efficiency) : "-",
                           cos && cos->efficiencyRel > 0 ? factor(s.efficiencyRel / cos->efficiencyRel) : "-");
     }
@@ -136,10 +148,11 @@ std::string reportEqualTime(const ReportInputs& in) {
     if (!ref && !summary.empty()) ref = &summary.front();
     if (ref && ref->seconds > 0) {
         const double T = ref->seconds;
-        md += fmt::format("\n## Equal time\n\nRMSE each estimator would reach in {:.3g} s (the time `{}` took at {} spp), from its "
-                          "efficiency at the sample count whose time is closest: RMSE_T = sqrt(1/(efficiency x T)).\n\n"
-                          "| estimator | from spp | RMSE at {:.3g} s | vs `{}` |\n|---|---:|---:|---:|\n",
-                          T, ref->variant, top, T, ref->variant);
+        md += fmt::format(
+            "\n## Equal time\n\nRMSE each estimator would reach in {:.3g} s (the time `{}` took at {} spp), from its "
+            "efficiency at the sample count whose time is closest: RMSE_T = sqrt(1/(efficiency x T)).\n\n"
+            "| estimator | from spp | RMSE at {:.3g} s | vs `{}` |\n|---|---:|---:|---:|\n",
+            T, ref->variant, top, T, ref->variant);
         const double refRmse = std::sqrt(1.0 / (ref->efficiency * T));
         for (const StudyVariant& v : studyVariants(c)) {
             const std::string& est = v.label;
@@ -150,8 +163,8 @@ std::string reportEqualTime(const ReportInputs& in) {
                     bestFit = &s;
             if (!bestFit) continue;
             const double rmseT = std::sqrt(1.0 / (bestFit->efficiency * T));
-            md += fmt::format("| {}{} | {} | {:.4g} | {:.2f}x |\n", est, biasedAnywhere(summary, est) ? " (biased)" : "", bestFit->spp, rmseT,
-                              rmseT / refRmse);
+            md += fmt::format("| {}{} | {} | {:.4g} | {:.2f}x |\n", est, biasedAnywhere(summary, est) ? " (biased)" : "", bestFit->spp,
+                              rmseT, rmseT / refRmse);
         }
     }
     return md;
@@ -161,16 +174,18 @@ std::string reportEqualTime(const ReportInputs& in) {
 
 std::string reportMarkdown(const ReportInputs& in) {
     std::string md = reportHeader(in) + reportPlots(in) + reportBudget(in) + reportEqualSamples(in) + reportEqualTime(in);
-    md += "\nFiles: `results.csv` and `results.json` (one row per estimator x spp x repeat), `reference.exr` (+ `reference.json`), "
-          "`renders/`, `heatmaps/`.\n";
+    md +=
+        "\nFiles: `results.csv` and `results.json` (one row per estimator x spp x repeat), `reference.exr` (+ `reference.json`), "
+        "`renders/`, `heatmaps/`.\n";
     return md;
 }
 
 bool makePlots(const StudyConfig& c, const fs::path& dir) {
     const std::string py = findPython(c.python);
     if (py.empty()) {
-        fmt::print(stderr, "symphong: warning: no python3 with matplotlib found (Debian: apt-get install python3-matplotlib); "
-                           "no plots were made\n");
+        fmt::print(stderr,
+                   "symphong: warning: no python3 with matplotlib found (Debian: apt-get install python3-matplotlib); "
+                   "no plots were made\n");
         return false;
     }
     const std::string script = (dir / "plot_study.py").string();

@@ -5,11 +5,11 @@
 #include "study/study_parts.h"
 
 #include "accel/accel.h"
-#include "study/config.h"
 #include "io/files.h"
 #include "io/input_error.h"
 #include "render/progress.h"
 #include "scene/scene.h"
+#include "study/config.h"
 
 #include <fmt/format.h>
 
@@ -57,7 +57,8 @@ public:
     void writeRender(const std::string& label, const Image& image, const Reference& ref) const {
         writePng(image, (dir_ / "renders" / (label + ".png")).string());
         const std::vector<float> map = relativeErrorMap(image, ref.image);
-        writeFile((dir_ / "heatmaps" / (label + ".f32")).string(), std::string(reinterpret_cast<const char*>(map.data()), map.size() * sizeof(float)));
+        writeFile((dir_ / "heatmaps" / (label + ".f32")).string(),
+                  std::string(reinterpret_cast<const char*>(map.data()), map.size() * sizeof(float)));
     }
 
     /// results.csv and results.json with the rows so far, their summary and conclusion.
@@ -65,18 +66,36 @@ public:
         writeFile((dir_ / "results.csv").string(), studyCsv(outcome.rows));
         nlohmann::json variantList = nlohmann::json::array();
         for (const auto& v : variants_)
-            variantList.push_back({{"label", v.label}, {"estimator", v.estimator}, {"sampler", v.sampler}, {"mode", symmetricModeName(v.mode)},
+            variantList.push_back({{"label", v.label},
+                                   {"estimator", v.estimator},
+                                   {"sampler", v.sampler},
+                                   {"mode", symmetricModeName(v.mode)},
                                    {"split", v.split}});
         const Crop crop = this->crop();
         nlohmann::json j;
-        j["config"] = {{"scene", sceneName_}, {"scene_spec", c_.scene}, {"estimators", c_.estimators}, {"samplers", c_.samplers},
-                       {"variants", variantList}, {"spp", c_.spps}, {"symmetric_orbit", c_.options.symmetricOrbit},
-                       {"budget_pairs", c_.budgetPairs}, {"joint_first_bounce", c_.jointFirstBounce},
-                       {"repeats", c_.repeats}, {"width", c_.width}, {"height", c_.height}, {"max_depth", c_.maxDepth}, {"seed", c_.seed},
-                       {"processes", processes_},
-                       {"reference", {{"path", c_.referencePath}, {"estimator", c_.referenceEstimator}, {"spp", c_.referenceSpp},
-                                      {"mean_luminance", ref.mean.mean}, {"pixel_variance", ref.noise}}},
-                       {"heatmap", {{"spp", heatSpp_}, {"width", c_.width}, {"height", c_.height}, {"crop", {crop.x, crop.y, crop.w, crop.h}}}}};
+        j["config"] = {
+            {"scene", sceneName_},
+            {"scene_spec", c_.scene},
+            {"estimators", c_.estimators},
+            {"samplers", c_.samplers},
+            {"variants", variantList},
+            {"spp", c_.spps},
+            {"symmetric_orbit", c_.options.symmetricOrbit},
+            {"budget_pairs", c_.budgetPairs},
+            {"joint_first_bounce", c_.jointFirstBounce},
+            {"repeats", c_.repeats},
+            {"width", c_.width},
+            {"height", c_.height},
+            {"max_depth", c_.maxDepth},
+            {"seed", c_.seed},
+            {"processes", processes_},
+            {"reference",
+             {{"path", c_.referencePath},
+              {"estimator", c_.referenceEstimator},
+              {"spp", c_.referenceSpp},
+              {"mean_luminance", ref.mean.mean},
+              {"pixel_variance", ref.noise}}},
+            {"heatmap", {{"spp", heatSpp_}, {"width", c_.width}, {"height", c_.height}, {"crop", {crop.x, crop.y, crop.w, crop.h}}}}};
         j["settings"] = studySettingsJson(c_);
         j["rows"] = nlohmann::json::array();
         for (const auto& r : outcome.rows) j["rows"].push_back(rowJson(r));
@@ -128,7 +147,8 @@ struct StudyProgress {
         samples = 0;
     }
     ProgressBar bar(double total, bool show) {
-        return ProgressBar([this] { return doneBefore + currentCost * static_cast<double>(samples.load(std::memory_order_relaxed)); }, total,
+        return ProgressBar([this] { return doneBefore + currentCost * static_cast<double>(samples.load(std::memory_order_relaxed)); },
+                           total,
                            [this] {
                                std::lock_guard<std::mutex> lock(labelMutex);
                                return label;
@@ -266,7 +286,8 @@ bool StudyRun::runGroup(std::uint32_t spp, std::size_t ei) {
     std::vector<MeanWithError> means;
     const std::size_t firstRow = outcome_.rows.size();
     for (int rep = 0; rep < c_.repeats; ++rep) {
-        progress_.start(fmt::format("{} {} spp, repeat {}/{} (row {}/{})", name, spp, rep + 1, c_.repeats, rowIndex_ + 1, rowCount_), cost_[name]);
+        progress_.start(fmt::format("{} {} spp, repeat {}/{} (row {}/{})", name, spp, rep + 1, c_.repeats, rowIndex_ + 1, rowCount_),
+                        cost_[name]);
         RenderSettings rs = base();
         rs.spp = spp;
         rs.sampler = variant.sampler;
@@ -312,7 +333,8 @@ double StudyRun::budgetVariance(std::uint32_t spp, std::size_t ei, const Estimat
         rs.seed = mixSeed(mixSeed(mixSeed(c_.seed, ei + 1), 0xB0D6E7), static_cast<std::uint64_t>(b));
         Image pair[2];
         for (std::uint32_t stream = 1; stream <= 2 && !outcome_.cancelled; ++stream) {
-            progress_.start(fmt::format("{} {} spp, variance budget {}/{}", variant.label, spp, b + 1, c_.budgetPairs), progress_.currentCost);
+            progress_.start(fmt::format("{} {} spp, variance budget {}/{}", variant.label, spp, b + 1, c_.budgetPairs),
+                            progress_.currentCost);
             rs.trace.firstBounceStream = stream;
             const RenderResult r = rt_.render(scene_, *accel_, est, rs, &progress_.samples);
             progress_.finished(cost_[variant.label] * spp * c_.width * c_.height);

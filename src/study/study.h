@@ -8,8 +8,8 @@
 #include "render/renderer.h"
 
 #include <atomic>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,7 +19,7 @@ struct StudyConfig {
     std::string scene = "cornell";
     std::vector<std::string> estimators = {"cosine", "stratified", "phong", "symmetric", "symmetric-shifted", "paper"};
     std::vector<std::string> samplers = {std::string(kDefaultSampler)};  ///< every estimator runs under each
-    std::vector<SymmetricMode> modes = {SymmetricMode::Branch};  ///< the set estimators run in each
+    std::vector<SymmetricMode> modes = {SymmetricMode::Branch};          ///< the set estimators run in each
     std::vector<std::uint32_t> spps = {1, 4, 16, 64};
     /// First-hit splitting (TraceSettings::firstHitSplit): each k > 1 adds a variant "+splitk" of every
     /// estimator of splitEstimators whose first hit takes one direction per call (spread mode for the set
@@ -30,21 +30,21 @@ struct StudyConfig {
     /// first bounce's random numbers (TraceSettings::firstBounceStream); half their squared difference,
     /// averaged, is the part of the pixel variance that comes from the first-bounce directions. 0: none.
     int budgetPairs = 0;
-    bool jointFirstBounce = false;        ///< every render with TraceSettings::jointFirstBounce (the joint 4D pattern)
+    bool jointFirstBounce = false;  ///< every render with TraceSettings::jointFirstBounce (the joint 4D pattern)
     int repeats = 4;
     int width = 128, height = 128;
     int maxDepth = 16;
     std::uint64_t seed = 1;
     int threads = 0;
-    std::string referencePath;            ///< a given reference EXR; empty: render (and cache) one
+    std::string referencePath;  ///< a given reference EXR; empty: render (and cache) one
     std::uint32_t referenceSpp = 2048;
     std::string referenceEstimator = "phong";
     std::string referenceSampler = "independent";  ///< independent: the reference's own noise is then known
     std::string outDir = "out/study";
-    std::uint32_t heatmapSpp = 0;         ///< spp of the heat maps and crops; 0: the middle of `spps`
+    std::uint32_t heatmapSpp = 0;  ///< spp of the heat maps and crops; 0: the middle of `spps`
     EstimatorOptions options;
     bool plots = true;
-    std::string python;                   ///< interpreter for the plots; empty: /usr/bin/python3, then python3
+    std::string python;  ///< interpreter for the plots; empty: /usr/bin/python3, then python3
 };
 
 /// What a study compares: an estimator, in a mode (set estimators), under a sampler. Its label names it
@@ -69,18 +69,18 @@ struct StudyRow {
     double seconds = 0;
     std::uint64_t rays = 0, samples = 0;
     double meanLuminance = 0, meanStdError = 0;
-    double relativeBias = 0;      ///< this render's image mean against the reference's
-    double mseRaw = 0;            ///< mean squared luminance error against the reference
-    double mse = 0;               ///< mseRaw less the reference's own noise (its mean variance), at least 0
+    double relativeBias = 0;  ///< this render's image mean against the reference's
+    double mseRaw = 0;        ///< mean squared luminance error against the reference
+    double mse = 0;           ///< mseRaw less the reference's own noise (its mean variance), at least 0
     double rmse = 0, relMse = 0;
-    double efficiency = 0;        ///< 1 / (mse * seconds)
-    double efficiencyRel = 0;     ///< 1 / (relMse * seconds): weighs dark regions like bright ones
+    double efficiency = 0;           ///< 1 / (mse * seconds)
+    double efficiencyRel = 0;        ///< 1 / (relMse * seconds): weighs dark regions like bright ones
     double pixelVarianceWithin = 0;  ///< mean over pixels of the render's own variance-of-mean (luminance)
     // group values over the R repeats of (estimator, spp)
     double groupRelativeBias = 0, groupBiasStdError = 0, groupBiasZ = 0;
-    double groupBiasThreshold = 4;   ///< |z| above which the group's bias counts as significant
+    double groupBiasThreshold = 4;  ///< |z| above which the group's bias counts as significant
     bool groupBiasSignificant = false;
-    double groupPixelVariance = 0;   ///< mean over pixels of the variance across repeats (needs R >= 2)
+    double groupPixelVariance = 0;  ///< mean over pixels of the variance across repeats (needs R >= 2)
     /// Mean over pixels of the variance that comes from the first-bounce directions (the variance budget,
     /// StudyConfig::budgetPairs); negative when not measured (other spp, or no pairs).
     double groupFirstBounceVariance = -1;

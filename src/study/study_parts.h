@@ -33,8 +33,8 @@ EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v);
 struct Reference {
     Image image;
     MeanWithError mean;
-    double noise = 0;  ///< mean over pixels of its variance-of-mean (luminance); 0 when unknown
-    std::string note;  ///< the report's sentence on where it came from
+    double noise = 0;   ///< mean over pixels of its variance-of-mean (luminance); 0 when unknown
+    std::string note;   ///< the report's sentence on where it came from
     bool have = false;  ///< false: it must be rendered
 };
 

@@ -21,11 +21,13 @@ const char* const kStudyCsvHeader =
 std::string studyCsv(const std::vector<StudyRow>& rows) {
     std::string out = std::string(kStudyCsvHeader) + "\n";
     for (const StudyRow& r : rows)
-        out += fmt::format("{},{},{},{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g},{},{:.6g},{},{:.6g}\n",
-                           r.scene, r.estimator, r.variant, r.sampler, r.mode, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples, r.meanLuminance,
-                           r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.efficiencyRel, r.pixelVarianceWithin,
-                           r.groupRelativeBias, r.groupBiasStdError, r.groupBiasZ, r.groupBiasThreshold, r.groupBiasSignificant ? 1 : 0,
-                           r.groupPixelVariance, r.split, r.groupFirstBounceVariance);
+        out += fmt::format(
+            "{},{},{},{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:"
+            ".4g},{:.4g},{},{:.6g},{},{:.6g}\n",
+            r.scene, r.estimator, r.variant, r.sampler, r.mode, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples,
+            r.meanLuminance, r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.efficiencyRel,
+            r.pixelVarianceWithin, r.groupRelativeBias, r.groupBiasStdError, r.groupBiasZ, r.groupBiasThreshold,
+            r.groupBiasSignificant ? 1 : 0, r.groupPixelVariance, r.split, r.groupFirstBounceVariance);
     return out;
 }
 
@@ -140,8 +142,10 @@ std::string studyConclusion(const std::vector<StudySummary>& summary, const std:
         if (traits.role != EstimatorRole::Candidate || !traits.hasDensity) continue;
         std::vector<std::string> parts;
         for (const EstimatorEntry& other : estimatorTable())
-            if (other.traits.role != EstimatorRole::Baseline) continue;
-            else if (const StudySummary* o = sameSampler(summary, std::string(other.name), *s); o && o->efficiency > 0 && o->efficiencyRel > 0)
+            if (other.traits.role != EstimatorRole::Baseline)
+                continue;
+            else if (const StudySummary* o = sameSampler(summary, std::string(other.name), *s);
+                     o && o->efficiency > 0 && o->efficiencyRel > 0)
                 parts.push_back(fmt::format("{} `{}`'s by MSE ({} by relMSE)", factor(s->efficiency / o->efficiency), o->variant,
                                             factor(s->efficiencyRel / o->efficiencyRel)));
         if (!parts.empty()) text += fmt::format("`{}` reaches {}. ", s->variant, fmt::join(parts, ", "));
@@ -152,8 +156,8 @@ std::string studyConclusion(const std::vector<StudySummary>& summary, const std:
         if (!isIndependentSampler(s->sampler))
             for (const auto* o : atTop)
                 if (o->estimator == s->estimator && o->mode == s->mode && isIndependentSampler(o->sampler) && s->mse > 0)
-                    samplerParts.push_back(fmt::format("`{}` {} lower MSE than `{}` ({} the efficiency)", s->variant, factor(o->mse / s->mse),
-                                                       o->variant, factor(s->efficiency / o->efficiency)));
+                    samplerParts.push_back(fmt::format("`{}` {} lower MSE than `{}` ({} the efficiency)", s->variant,
+                                                       factor(o->mse / s->mse), o->variant, factor(s->efficiency / o->efficiency)));
     if (!samplerParts.empty()) text += fmt::format("Samplers at {} spp: {}. ", top, fmt::join(samplerParts, "; "));
     std::vector<std::string> winners;
     for (std::uint32_t spp : spps) {
@@ -163,41 +167,79 @@ std::string studyConclusion(const std::vector<StudySummary>& summary, const std:
         if (w) winners.push_back(fmt::format("{} spp: `{}`", spp, w->variant));
     }
     if (!winners.empty())
-        text += fmt::format("At equal samples per pixel, the lowest RMSE among unbiased variants goes to {} (branch-mode symmetric "
-                            "estimators trace 16 to 24 paths per camera sample, so equal samples is not equal work). ",
-                            fmt::join(winners, ", "));
+        text += fmt::format(
+            "At equal samples per pixel, the lowest RMSE among unbiased variants goes to {} (branch-mode symmetric "
+            "estimators trace 16 to 24 paths per camera sample, so equal samples is not equal work). ",
+            fmt::join(winners, ", "));
     std::vector<std::string> biased;
     for (const auto* s : atTop)
         if (s->biasSignificant)
-            biased.push_back(fmt::format("`{}` ({:+.1f}% +- {:.1f}%, z = {:.0f})", s->variant, 100 * s->relativeBias,
-                                         100 * s->biasStdError, s->biasZ));
+            biased.push_back(
+                fmt::format("`{}` ({:+.1f}% +- {:.1f}%, z = {:.0f})", s->variant, 100 * s->relativeBias, 100 * s->biasStdError, s->biasZ));
     if (!biased.empty())
-        text += fmt::format("Significantly biased against the reference (|z| > 4): {}; their error stops falling with more "
-                            "samples, so their efficiency means little.",
-                            fmt::join(biased, ", "));
+        text += fmt::format(
+            "Significantly biased against the reference (|z| > 4): {}; their error stops falling with more "
+            "samples, so their efficiency means little.",
+            fmt::join(biased, ", "));
     else
         text += "No variant is significantly biased (|z| > 4) against the reference.";
     return text;
 }
 
 nlohmann::json rowJson(const StudyRow& r) {
-    return {{"scene", r.scene}, {"estimator", r.estimator}, {"variant", r.variant}, {"sampler", r.sampler}, {"mode", r.mode}, {"spp", r.spp}, {"repeat", r.repeat}, {"width", r.width},
-            {"height", r.height}, {"seconds", r.seconds}, {"rays", r.rays}, {"samples", r.samples},
-            {"mean_luminance", r.meanLuminance}, {"mean_luminance_std_error", r.meanStdError}, {"relative_bias", r.relativeBias},
-            {"mse_raw", r.mseRaw}, {"mse", r.mse}, {"rmse", r.rmse}, {"relmse", r.relMse}, {"efficiency", r.efficiency}, {"efficiency_relmse", r.efficiencyRel},
-            {"pixel_variance_within", r.pixelVarianceWithin}, {"group_relative_bias", r.groupRelativeBias},
-            {"group_bias_std_error", r.groupBiasStdError}, {"group_bias_z", r.groupBiasZ}, {"group_bias_threshold", r.groupBiasThreshold},
-            {"group_bias_significant", r.groupBiasSignificant}, {"group_pixel_variance", r.groupPixelVariance}, {"split", r.split},
+    return {{"scene", r.scene},
+            {"estimator", r.estimator},
+            {"variant", r.variant},
+            {"sampler", r.sampler},
+            {"mode", r.mode},
+            {"spp", r.spp},
+            {"repeat", r.repeat},
+            {"width", r.width},
+            {"height", r.height},
+            {"seconds", r.seconds},
+            {"rays", r.rays},
+            {"samples", r.samples},
+            {"mean_luminance", r.meanLuminance},
+            {"mean_luminance_std_error", r.meanStdError},
+            {"relative_bias", r.relativeBias},
+            {"mse_raw", r.mseRaw},
+            {"mse", r.mse},
+            {"rmse", r.rmse},
+            {"relmse", r.relMse},
+            {"efficiency", r.efficiency},
+            {"efficiency_relmse", r.efficiencyRel},
+            {"pixel_variance_within", r.pixelVarianceWithin},
+            {"group_relative_bias", r.groupRelativeBias},
+            {"group_bias_std_error", r.groupBiasStdError},
+            {"group_bias_z", r.groupBiasZ},
+            {"group_bias_threshold", r.groupBiasThreshold},
+            {"group_bias_significant", r.groupBiasSignificant},
+            {"group_pixel_variance", r.groupPixelVariance},
+            {"split", r.split},
             {"group_first_bounce_variance", r.groupFirstBounceVariance}};
 }
 
 nlohmann::json summaryJson(const StudySummary& s) {
-    return {{"estimator", s.estimator}, {"variant", s.variant}, {"sampler", s.sampler}, {"mode", s.mode}, {"spp", s.spp}, {"seconds", s.seconds}, {"rays", s.rays}, {"rmse", s.rmse},
-            {"rmse_spread", s.rmseSpread}, {"mse", s.mse}, {"relmse", s.relMse}, {"efficiency", s.efficiency},
+    return {{"estimator", s.estimator},
+            {"variant", s.variant},
+            {"sampler", s.sampler},
+            {"mode", s.mode},
+            {"spp", s.spp},
+            {"seconds", s.seconds},
+            {"rays", s.rays},
+            {"rmse", s.rmse},
+            {"rmse_spread", s.rmseSpread},
+            {"mse", s.mse},
+            {"relmse", s.relMse},
+            {"efficiency", s.efficiency},
             {"efficiency_relmse", s.efficiencyRel},
-            {"relative_bias", s.relativeBias}, {"bias_std_error", s.biasStdError}, {"bias_z", s.biasZ},
-            {"bias_significant", s.biasSignificant}, {"pixel_variance", s.pixelVariance},
-            {"first_bounce_variance", s.firstBounceVariance}, {"first_bounce_share", s.firstBounceShare()}};
+            {"relative_bias", s.relativeBias},
+            {"bias_std_error", s.biasStdError},
+            {"bias_z", s.biasZ},
+            {"bias_significant", s.biasSignificant},
+            {"pixel_variance", s.pixelVariance},
+            {"first_bounce_variance", s.firstBounceVariance},
+            {"first_bounce_share", s.firstBounceShare()}};
 }
 
 }  // namespace symphong

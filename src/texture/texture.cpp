@@ -7,9 +7,12 @@ namespace symphong {
 
 const char* wrapModeName(WrapMode mode) {
     switch (mode) {
-        case WrapMode::Repeat: return "repeat";
-        case WrapMode::Clamp: return "clamp";
-        case WrapMode::Mirror: return "mirror";
+        case WrapMode::Repeat:
+            return "repeat";
+        case WrapMode::Clamp:
+            return "clamp";
+        case WrapMode::Mirror:
+            return "mirror";
     }
     return "?";
 }
@@ -19,14 +22,16 @@ Texture::Texture(std::string name, int width, int height, int channels, std::vec
 
 int wrapIndex(int i, int n, WrapMode mode) {
     switch (mode) {
-        case WrapMode::Clamp: return i < 0 ? 0 : (i >= n ? n - 1 : i);
+        case WrapMode::Clamp:
+            return i < 0 ? 0 : (i >= n ? n - 1 : i);
         case WrapMode::Mirror: {
             // ... 1 0 | 0 1 ... n-1 | n-1 ... : period 2n, the second half reversed.
             int m = i % (2 * n);
             if (m < 0) m += 2 * n;
             return m < n ? m : 2 * n - 1 - m;
         }
-        case WrapMode::Repeat: break;
+        case WrapMode::Repeat:
+            break;
     }
     const int m = i % n;
     return m < 0 ? m + n : m;

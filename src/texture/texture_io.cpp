@@ -22,7 +22,8 @@ namespace {
 /// An OpenEXR input stream over bytes in memory (OpenEXR reads files through IStream).
 class MemoryStream : public Imf::IStream {
 public:
-    MemoryStream(const std::string& name, const unsigned char* data, std::size_t size) : Imf::IStream(name.c_str()), data_(data), size_(size) {}
+    MemoryStream(const std::string& name, const unsigned char* data, std::size_t size)
+        : Imf::IStream(name.c_str()), data_(data), size_(size) {}
     bool read(char c[], int n) override {
         if (n < 0 || pos_ > size_ || static_cast<std::size_t>(n) > size_ - pos_) throw std::runtime_error("the file ends early");
         std::memcpy(c, data_ + pos_, static_cast<std::size_t>(n));
@@ -48,10 +49,12 @@ void checkTexels(const std::string& name, const std::vector<float>& texels, int 
         }
 }
 
-void requireTexelMemory(const std::string& name, std::uint64_t width, std::uint64_t height, std::uint64_t channels, std::uint64_t decodeBytesPerTexel) {
+void requireTexelMemory(const std::string& name, std::uint64_t width, std::uint64_t height, std::uint64_t channels,
+                        std::uint64_t decodeBytesPerTexel) {
     // The float texels we keep plus the decoder's own buffer.
     const std::uint64_t texels = saturatingMultiply(saturatingMultiply(width, height), channels);
-    requireMemory(saturatingMultiply(texels, sizeof(float) + decodeBytesPerTexel), fmt::format("{}: a {} x {} texture", name, width, height));
+    requireMemory(saturatingMultiply(texels, sizeof(float) + decodeBytesPerTexel),
+                  fmt::format("{}: a {} x {} texture", name, width, height));
 }
 
 /// stb_image decodes a truncated file as if its missing bytes were zeros, so a 31-byte header can claim
@@ -60,7 +63,8 @@ void requireTexelMemory(const std::string& name, std::uint64_t width, std::uint6
 /// of the file is truncated (found by fuzzing, docs/reliability.md).
 void checkClaimedTexels(const std::string& name, std::uint64_t width, std::uint64_t height, std::size_t size, const char* what) {
     if (saturatingMultiply(width, height) > saturatingMultiply(size, 16384) + (std::uint64_t{1} << 16))
-        throw InputError(fmt::format("{}: truncated image: its {} claims {} x {} texels, more than its {} bytes can hold", name, what, width, height, size));
+        throw InputError(fmt::format("{}: truncated image: its {} claims {} x {} texels, more than its {} bytes can hold", name, what,
+                                     width, height, size));
 }
 
 Texture decodeExr(const std::string& name, const unsigned char* data, std::size_t size) {
@@ -68,7 +72,8 @@ Texture decodeExr(const std::string& name, const unsigned char* data, std::size_
         MemoryStream stream(name, data, size);
         Imf::RgbaInputFile file(stream);
         const Imath::Box2i dw = file.dataWindow();
-        const std::int64_t w64 = static_cast<std::int64_t>(dw.max.x) - dw.min.x + 1, h64 = static_cast<std::int64_t>(dw.max.y) - dw.min.y + 1;
+        const std::int64_t w64 = static_cast<std::int64_t>(dw.max.x) - dw.min.x + 1,
+                           h64 = static_cast<std::int64_t>(dw.max.y) - dw.min.y + 1;
         if (w64 <= 0 || h64 <= 0 || w64 > INT_MAX / 4 || h64 > INT_MAX / 4)
             throw InputError(fmt::format("{}: OpenEXR data window {} x {} is empty or too large", name, w64, h64));
         const int channels = (file.channels() & Imf::WRITE_A) ? 4 : 3;
@@ -78,8 +83,9 @@ Texture decodeExr(const std::string& name, const unsigned char* data, std::size_
         std::vector<Imf::Rgba> pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
         // The frame buffer is addressed by absolute pixel coordinates: shift by the data window's corner.
         const std::ptrdiff_t shift = -static_cast<std::ptrdiff_t>(dw.min.x) - static_cast<std::ptrdiff_t>(dw.min.y) * w;
-        file.setFrameBuffer(reinterpret_cast<Imf::Rgba*>(reinterpret_cast<std::uintptr_t>(pixels.data()) + shift * static_cast<std::ptrdiff_t>(sizeof(Imf::Rgba))), 1,
-                            static_cast<std::size_t>(w));
+        file.setFrameBuffer(reinterpret_cast<Imf::Rgba*>(reinterpret_cast<std::uintptr_t>(pixels.data()) +
+                                                         shift * static_cast<std::ptrdiff_t>(sizeof(Imf::Rgba))),
+                            1, static_cast<std::size_t>(w));
         file.readPixels(dw.min.y, dw.max.y);
         std::vector<float> texels(pixels.size() * static_cast<std::size_t>(channels));
         for (std::size_t i = 0; i < pixels.size(); ++i) {
@@ -134,7 +140,8 @@ void checkJpegHuffmanTables(const std::string& name, const unsigned char* data, 
             while (left >= 17) {
                 std::size_t codes = 0;
                 for (std::size_t k = 0; k < 16; ++k) codes += byte(at + 1 + k);
-                if (codes > 256) throw InputError(fmt::format("{}: corrupt JPEG: a Huffman table declares {} codes (at most 256)", name, codes));
+                if (codes > 256)
+                    throw InputError(fmt::format("{}: corrupt JPEG: a Huffman table declares {} codes (at most 256)", name, codes));
                 if (17 + codes > left) break;
                 at += 17 + codes;
                 left -= 17 + codes;
@@ -163,7 +170,8 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
     if (size >= 24 && std::memcmp(data, kPngMagic, 8) == 0 && std::memcmp(data + 12, "IHDR", 4) == 0) {
         // stb_image refuses images over 2^30 bytes as "unknown": read the PNG's size to say why.
         const auto be32 = [&](std::size_t at) {
-            return (std::uint64_t{data[at]} << 24) | (std::uint64_t{data[at + 1]} << 16) | (std::uint64_t{data[at + 2]} << 8) | data[at + 3];
+            return (std::uint64_t{data[at]} << 24) | (std::uint64_t{data[at + 1]} << 16) | (std::uint64_t{data[at + 2]} << 8) |
+                   data[at + 3];
         };
         const std::uint64_t pw = be32(16), ph = be32(20);
         requireTexelMemory(name, pw, ph, 4, 1);
@@ -172,18 +180,23 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
     }
     if (!stbi_info_from_memory(data, len, &w, &h, &comp) || w <= 0 || h <= 0 || comp < 1 || comp > 4) {
         const char* why = stbi_failure_reason();
-        throw InputError(fmt::format("{}: not an image symphong reads (PNG, JPEG, BMP, TGA, HDR or EXR){}{}", name, why ? ": " : "", why ? why : ""));
+        throw InputError(
+            fmt::format("{}: not an image symphong reads (PNG, JPEG, BMP, TGA, HDR or EXR){}{}", name, why ? ": " : "", why ? why : ""));
     }
     checkClaimedTexels(name, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), size, "header");
     const bool hdr = stbi_is_hdr_from_memory(data, len) != 0;
     const bool sixteen = !hdr && stbi_is_16_bit_from_memory(data, len) != 0;
-    requireTexelMemory(name, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), static_cast<std::uint64_t>(comp), hdr ? 4 : (sixteen ? 2 : 1));
+    requireTexelMemory(name, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), static_cast<std::uint64_t>(comp),
+                       hdr ? 4 : (sixteen ? 2 : 1));
 
     int dw = 0, dh = 0, dc = 0;
     std::unique_ptr<void, StbFree> decoded;
-    if (hdr) decoded.reset(stbi_loadf_from_memory(data, len, &dw, &dh, &dc, 0));
-    else if (sixteen) decoded.reset(stbi_load_16_from_memory(data, len, &dw, &dh, &dc, 0));
-    else decoded.reset(stbi_load_from_memory(data, len, &dw, &dh, &dc, 0));
+    if (hdr)
+        decoded.reset(stbi_loadf_from_memory(data, len, &dw, &dh, &dc, 0));
+    else if (sixteen)
+        decoded.reset(stbi_load_16_from_memory(data, len, &dw, &dh, &dc, 0));
+    else
+        decoded.reset(stbi_load_from_memory(data, len, &dw, &dh, &dc, 0));
     if (!decoded || dw != w || dh != h || dc != comp) {
         const char* why = stbi_failure_reason();
         throw InputError(fmt::format("{}: corrupt or truncated image{}{}", name, why ? ": " : "", why ? why : ""));
@@ -202,13 +215,15 @@ Texture decodeTexture(const std::string& name, const unsigned char* data, std::s
         const auto* s = static_cast<const std::uint16_t*>(decoded.get());
         for (std::size_t i = 0; i < n; ++i) {
             const double v = s[i] / 65535.0;
-            texels[i] = static_cast<float>(srgb && static_cast<int>(i % static_cast<std::size_t>(comp)) < colourChannels ? srgbToLinear(v) : v);
+            texels[i] =
+                static_cast<float>(srgb && static_cast<int>(i % static_cast<std::size_t>(comp)) < colourChannels ? srgbToLinear(v) : v);
         }
     }
     return Texture(name, w, h, comp, std::move(texels));
 }
 
-Texture textureFrom8Bit(const std::string& name, int width, int height, int channels, const unsigned char* bytes, TextureEncoding encoding) {
+Texture textureFrom8Bit(const std::string& name, int width, int height, int channels, const unsigned char* bytes,
+                        TextureEncoding encoding) {
     std::array<float, 256> linear{}, srgbTable{};
     for (int i = 0; i < 256; ++i) {
         linear[static_cast<std::size_t>(i)] = static_cast<float>(i / 255.0);

@@ -35,10 +35,10 @@ struct TextAccess {
 };
 
 template <class S>
-using Access = std::variant<std::function<int&(S&)>, std::function<std::uint32_t&(S&)>, std::function<std::uint64_t&(S&)>,
-                            std::function<double&(S&)>, std::function<bool&(S&)>, std::function<std::string&(S&)>,
-                            std::function<std::vector<std::uint32_t>&(S&)>, std::function<std::vector<int>&(S&)>,
-                            std::function<std::vector<double>&(S&)>, TextAccess<S>>;
+using Access =
+    std::variant<std::function<int&(S&)>, std::function<std::uint32_t&(S&)>, std::function<std::uint64_t&(S&)>, std::function<double&(S&)>,
+                 std::function<bool&(S&)>, std::function<std::string&(S&)>, std::function<std::vector<std::uint32_t>&(S&)>,
+                 std::function<std::vector<int>&(S&)>, std::function<std::vector<double>&(S&)>, TextAccess<S>>;
 
 /// Access to member m of S.
 template <class S, class T>
@@ -61,39 +61,75 @@ Access<S> ref(L path) {
 
 template <class S>
 struct Field {
-    std::string key;       ///< Python keyword and JSON key
-    std::string flags;     ///< command-line names, CLI11 style ("--max-depth,-d"); empty: not on the command line
+    std::string key;    ///< Python keyword and JSON key
+    std::string flags;  ///< command-line names, CLI11 style ("--max-depth,-d"); empty: not on the command line
     std::string help;
     Access<S> access;
     double lo = -std::numeric_limits<double>::infinity();  ///< numbers and list elements: inclusive range
     double hi = std::numeric_limits<double>::infinity();
-    bool positive = false;             ///< a number that must be > 0 (and finite)
-    std::vector<int> oneOf;            ///< an integer that must be one of these
+    bool positive = false;                            ///< a number that must be > 0 (and finite)
+    std::vector<int> oneOf;                           ///< an integer that must be one of these
     std::function<std::vector<std::string>()> names;  ///< command line: a name that must be one of these
     std::function<void(const std::string&)> check;    ///< a string's own check (throws std::invalid_argument)
     unsigned where = kEverywhere;
-    std::string pythonKey;             ///< Python keyword when it differs from key (negated flags)
-    bool negated = false;              ///< a bool that the command-line flag sets and Python names by its opposite
-    bool showDefault = true;           ///< command line: show the default in --help
-    bool nullable = false;             ///< Python: None stands for the default (an empty string)
-    bool nameList = false;             ///< Python: a string "a,b" or a sequence of strings (joined with commas)
-    bool pythonRange = true;           ///< false: Python leaves the range to the library's own check (its message)
-    std::string typeName;              ///< command line: type name shown in --help (text fields)
+    std::string pythonKey;    ///< Python keyword when it differs from key (negated flags)
+    bool negated = false;     ///< a bool that the command-line flag sets and Python names by its opposite
+    bool showDefault = true;  ///< command line: show the default in --help
+    bool nullable = false;    ///< Python: None stands for the default (an empty string)
+    bool nameList = false;    ///< Python: a string "a,b" or a sequence of strings (joined with commas)
+    bool pythonRange = true;  ///< false: Python leaves the range to the library's own check (its message)
+    std::string typeName;     ///< command line: type name shown in --help (text fields)
 
     Field(std::string k, std::string f, std::string h, Access<S> a)
         : key(std::move(k)), flags(std::move(f)), help(std::move(h)), access(std::move(a)) {}
-    Field&& range(double l, double h) && { lo = l, hi = h; return std::move(*this); }
-    Field&& mustBePositive() && { positive = true; return std::move(*this); }
-    Field&& among(std::vector<int> values) && { oneOf = std::move(values); return std::move(*this); }
-    Field&& namedFrom(std::function<std::vector<std::string>()> n) && { names = std::move(n); return std::move(*this); }
-    Field&& checkedBy(std::function<void(const std::string&)> c) && { check = std::move(c); return std::move(*this); }
-    Field&& only(unsigned w) && { where = w; return std::move(*this); }
-    Field&& python(std::string k, bool negate) && { pythonKey = std::move(k), negated = negate; return std::move(*this); }
-    Field&& noDefaultShown() && { showDefault = false; return std::move(*this); }
-    Field&& orNone() && { nullable = true; return std::move(*this); }
-    Field&& listOfNames() && { nameList = true; return std::move(*this); }
-    Field&& rangeOnCommandLineOnly() && { pythonRange = false; return std::move(*this); }
-    Field&& type(std::string t) && { typeName = std::move(t); return std::move(*this); }
+    Field&& range(double l, double h) && {
+        lo = l, hi = h;
+        return std::move(*this);
+    }
+    Field&& mustBePositive() && {
+        positive = true;
+        return std::move(*this);
+    }
+    Field&& among(std::vector<int> values) && {
+        oneOf = std::move(values);
+        return std::move(*this);
+    }
+    Field&& namedFrom(std::function<std::vector<std::string>()> n) && {
+        names = std::move(n);
+        return std::move(*this);
+    }
+    Field&& checkedBy(std::function<void(const std::string&)> c) && {
+        check = std::move(c);
+        return std::move(*this);
+    }
+    Field&& only(unsigned w) && {
+        where = w;
+        return std::move(*this);
+    }
+    Field&& python(std::string k, bool negate) && {
+        pythonKey = std::move(k), negated = negate;
+        return std::move(*this);
+    }
+    Field&& noDefaultShown() && {
+        showDefault = false;
+        return std::move(*this);
+    }
+    Field&& orNone() && {
+        nullable = true;
+        return std::move(*this);
+    }
+    Field&& listOfNames() && {
+        nameList = true;
+        return std::move(*this);
+    }
+    Field&& rangeOnCommandLineOnly() && {
+        pythonRange = false;
+        return std::move(*this);
+    }
+    Field&& type(std::string t) && {
+        typeName = std::move(t);
+        return std::move(*this);
+    }
 
     bool in(Where w) const { return (where & w) != 0; }
     const std::string& pyKey() const { return pythonKey.empty() ? key : pythonKey; }
@@ -140,8 +176,10 @@ nlohmann::json valueOf(const Field<S>& f, const S& s) {
     return std::visit(
         [&](const auto& a) -> nlohmann::json {
             using A = std::decay_t<decltype(a)>;
-            if constexpr (std::is_same_v<A, TextAccess<S>>) return a.get(s);
-            else return a(m);
+            if constexpr (std::is_same_v<A, TextAccess<S>>)
+                return a.get(s);
+            else
+                return a(m);
         },
         f.access);
 }
@@ -210,7 +248,8 @@ void fromJson(const nlohmann::json& j, S& s, const Schema<S>& schema) {
                         if (!v.is_array()) throw bad("expected a list of numbers");
                         T out;
                         for (const auto& x : v) {
-                            if (!x.is_number() || (std::is_integral_v<E> && !x.is_number_integer())) throw bad("expected a list of numbers");
+                            if (!x.is_number() || (std::is_integral_v<E> && !x.is_number_integer()))
+                                throw bad("expected a list of numbers");
                             if (auto p = rangeProblem(*f, x.get<double>())) throw bad(*p);
                             out.push_back(x.get<E>());
                         }
