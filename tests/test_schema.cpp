@@ -3,6 +3,8 @@
 // and read back, its errors naming the key, the command-line options built from a schema parsing and
 // checking as CLI11 does, and a study's settings in results.json giving its configuration back.
 #include "cli/schema_cli.h"
+#include "io/input_error.h"
+#include "scene/scene.h"
 #include "estimators/options.h"
 #include "render/settings.h"
 #include "study/config.h"
@@ -10,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <set>
 
 using namespace symphong;
@@ -156,4 +160,41 @@ TEST(Schema, AStudysSettingsInResultsJsonGiveItsConfigurationBack) {
     EXPECT_EQ(back.referenceSpp, c.referenceSpp);
     EXPECT_EQ(back.options.symmetricOrbit, 4);
     EXPECT_FALSE(back.plots);
+}
+
+TEST(Schema, ASceneFilesRenderSettingsApplyUnderTheUsersOwn) {
+    const auto dir = std::filesystem::temp_directory_path() / "symphong-schema-scene";
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "s.json").string();
+    {
+        std::ofstream f(path);
+        f << R"({"builtin": "cornell", "render": {"spp": 5, "width": 20, "max_depth": 2, "symmetric_mode": "spread", "no_nee": true}})";
+    }
+    const Scene scene = loadScene(path);
+    RenderOptions o;
+    o.width = 33;  // given by the user: the scene's 20 must not replace it
+    applySceneSettings(o, scene, path, {"width"});
+    EXPECT_EQ(o.spp, 5u);
+    EXPECT_EQ(o.width, 33);
+    EXPECT_EQ(o.maxDepth, 2);
+    EXPECT_TRUE(o.noNee);
+    EXPECT_EQ(o.estimatorOptions.symmetricMode, SymmetricMode::Spread);
+    EXPECT_EQ(o.height, RenderOptions{}.height) << "what neither gives keeps its default";
+    {
+        std::ofstream f(path);
+        f << R"({"builtin": "cornell", "render": {"spp": 0}})";
+    }
+    RenderOptions r;
+    try {
+        applySceneSettings(r, loadScene(path), path, {});
+        FAIL() << "spp 0 accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), path + ": \"render\": spp: out of range (got 0)");
+    }
+    {
+        std::ofstream f(path);
+        f << R"({"builtin": "cornell", "render": [4]})";
+    }
+    EXPECT_THROW(loadScene(path), InputError);
+    std::filesystem::remove_all(dir);
 }

@@ -1,6 +1,7 @@
 #include "cli/cli.h"
 
 #include "cli/commands.h"
+#include "cli/schema_cli.h"
 #include "distrib/mpi_job.h"
 #include "io/input_error.h"
 
@@ -22,7 +23,7 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
     app.require_subcommand(1);
     app.set_version_flag("--version", versionText(), "print the version and the libraries it was built with, and exit");
     RenderOptions renderOptions;
-    addRenderCommand(app, renderOptions);
+    const CLI::App* renderCommand = addRenderCommand(app, renderOptions);
     FurnaceOptions furnaceOptions;
     addFurnaceCommand(app, furnaceOptions);
     StudyOptions studyOptions;
@@ -47,7 +48,7 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
         return kBadInput;
     }
     try {
-        if (app.got_subcommand("render")) return runRender(renderOptions, job);
+        if (app.got_subcommand("render")) return runRender(renderOptions, givenKeys(renderCommand, renderSchema()), job);
         if (app.got_subcommand("study")) return runStudyCommand(studyOptions, job);
         if (app.got_subcommand("info")) return job.root() ? runInfo(infoScene) : 0;
         // The furnace is not shared among ranks (its estimates take seconds): rank 0 runs it alone.

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include <memory>
+#include <set>
 #include <string>
 
 namespace symphong {
@@ -26,8 +27,10 @@ std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const 
 /// `symphong --version`: the program's version and its libraries' (version.cpp).
 std::string versionText();
 
-void addRenderCommand(CLI::App& app, RenderOptions& o);
-int runRender(const RenderOptions& o, const MpiJob& job);
+/// Adds `render`; returns its subcommand (to ask which options were given).
+CLI::App* addRenderCommand(CLI::App& app, RenderOptions& o);
+/// given: the schema keys of the options on the command line (the scene's "render" settings fill the rest).
+int runRender(const RenderOptions& o, const std::set<std::string>& given, const MpiJob& job);
 
 void addInfoCommand(CLI::App& app, std::string& scene);
 int runInfo(const std::string& spec);

@@ -28,7 +28,7 @@ std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const 
     }
 }
 
-void addRenderCommand(CLI::App& app, RenderOptions& o) {
+CLI::App* addRenderCommand(CLI::App& app, RenderOptions& o) {
     CLI::App* r = app.add_subcommand("render", "Render a scene to a PNG or OpenEXR image with the path tracer.");
     r->footer(
         "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), a .gltf, .glb, .ply,\n"
@@ -46,18 +46,25 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
         "Estimators:\n" +
         estimatorHelp() + "\n\nSamplers (every random decision of a render draws from the sampler):\n" + samplerHelp());
     addSchemaOptions(r, o, renderSchema());
+    return r;
 }
 
-int runRender(const RenderOptions& o, const MpiJob& job) {
+int runRender(const RenderOptions& given, const std::set<std::string>& givenKeys, const MpiJob& job) {
     // Every rank checks the input; a failure on any rank stops all of them, reported once by rank 0.
     std::string error;
     std::unique_ptr<Estimator> estimator;
     Scene scene;
     std::string output;
+    RenderOptions o = given;
     try {
         checkRenderOptions(o);
         estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
         scene = loadScene(o.scene);
+        if (!scene.renderSettings.empty()) {  // the scene's own settings, under the command line's
+            applySceneSettings(o, scene, o.scene, givenKeys);
+            checkRenderOptions(o);
+            estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
+        }
         output = o.output.empty() ? fmt::format("out/{}.png", scene.name) : o.output;
         if (job.root()) checkWritable(output);
     } catch (const InputError& e) {

@@ -7,9 +7,23 @@
 
 #include <CLI/CLI.hpp>
 
+#include <set>
+#include <string>
 #include <type_traits>
 
 namespace symphong {
+
+/// The keys of the fields whose options the command line gave (after parsing).
+template <class S>
+std::set<std::string> givenKeys(const CLI::App* cmd, const schema::Schema<S>& fields) {
+    std::set<std::string> given;
+    for (const schema::Field<S>& f : fields) {
+        if (!f.in(schema::kCli) || f.flags.empty()) continue;
+        const std::string first = f.flags.substr(0, f.flags.find(','));
+        if (const CLI::Option* opt = cmd->get_option_no_throw(first); opt && opt->count() > 0) given.insert(f.key);
+    }
+    return given;
+}
 
 template <class S>
 void addSchemaOptions(CLI::App* cmd, S& target, const schema::Schema<S>& fields) {

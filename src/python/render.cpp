@@ -29,6 +29,8 @@ py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
     const py::object progressArg = takeKeyword(kwargs, "progress", py::none());
     RenderOptions o;
     pyschema::applyKwargs(o, renderSchema(), kwargs, "render");
+    const std::shared_ptr<PyScene> scene = sceneArgument(sceneArg);
+    applySceneSettings(o, scene->scene(), scene->spec(), pyschema::givenKeys(renderSchema(), kwargs));
     checkRenderOptions(o);
     std::unique_ptr<Estimator> estimator;
     try {
@@ -37,7 +39,6 @@ py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
         throw InputError(fmt::format("estimator: {}", e.what()));
     }
     const RenderSettings s = renderSettings(o);
-    const std::shared_ptr<PyScene> scene = sceneArgument(sceneArg);
     const bool showProgress = progressArg.is_none() ? stderrIsTerminal() : progressArg.cast<bool>();
 
     const RenderResult r = runInterruptible([&](const std::atomic<bool>& cancel) {

@@ -12,6 +12,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cmath>
+#include <set>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -139,6 +140,18 @@ void applyKwargs(S& s, const schema::Schema<S>& fields, const py::dict& kwargs, 
         if (!field) throw py::type_error(fmt::format("{}() got an unexpected keyword argument '{}'", function, key));
         apply(*field, s, value);
     }
+}
+
+/// The schema keys of the keyword arguments given (a negated flag's keyword names its field's key).
+template <class S>
+std::set<std::string> givenKeys(const schema::Schema<S>& fields, const py::dict& kwargs) {
+    std::set<std::string> given;
+    for (const auto& item : kwargs) {
+        const std::string key = py::str(item.first).cast<std::string>();
+        for (const schema::Field<S>& f : fields)
+            if (f.in(schema::kPython) && f.pyKey() == key) given.insert(f.key);
+    }
+    return given;
 }
 
 /// A Python literal for a field's default (its value in S{}).

@@ -76,6 +76,7 @@ std::string describeScene(const Scene& s, const std::string& spec) {
     }
     out += fmt::format("environment {}\n", makeBackgroundEmitter(s)->describe());
     out += describeTextures(s);
+    if (!s.renderSettings.empty()) out += fmt::format("render      {} (the scene's own settings, under the command line's)\n", s.renderSettings);
     out += fmt::format("warnings    {}\n", s.warnings.size());
     for (const std::string& w : s.warnings) out += fmt::format("  {}\n", w);
     return out;

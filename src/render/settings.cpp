@@ -70,6 +70,21 @@ const schema::Schema<RenderOptions>& renderSchema() {
     return fields;
 }
 
+void applySceneSettings(RenderOptions& o, const Scene& scene, const std::string& spec, const std::set<std::string>& given) {
+    if (scene.renderSettings.empty()) return;
+    nlohmann::json settings = nlohmann::json::parse(scene.renderSettings);
+    nlohmann::json taken = nlohmann::json::object();
+    for (auto it = settings.begin(); it != settings.end(); ++it) {
+        if (it.key() == "scene") throw InputError(fmt::format("{}: \"render\": a scene file cannot name another scene", spec));
+        if (!given.count(it.key())) taken[it.key()] = it.value();
+    }
+    try {
+        schema::fromJson(taken, o, renderSchema());
+    } catch (const std::invalid_argument& e) {
+        throw InputError(fmt::format("{}: \"render\": {}", spec, e.what()));
+    }
+}
+
 void checkRenderOptions(const RenderOptions& o) {
     if (static_cast<long>(o.width) * o.height > kMaxImagePixels)
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));

@@ -9,7 +9,10 @@
 #include "render/renderer.h"
 #include "util/schema.h"
 
+#include "scene/scene.h"
+
 #include <cstdint>
+#include <set>
 #include <string>
 
 namespace symphong {
@@ -42,6 +45,12 @@ void checkRenderOptions(const RenderOptions& o);
 
 /// The renderer's settings for these options.
 RenderSettings renderSettings(const RenderOptions& o);
+
+/// The scene's own render settings (a JSON scene's "render" object, Scene::renderSettings) under the
+/// options the user gave (`given`: their schema keys): each setting the user did not give is read from
+/// the scene. A setting that is unknown, of the wrong type or out of range is an InputError naming the
+/// scene file ("scene.json: \"render\": spp: out of range (got 0)").
+void applySceneSettings(RenderOptions& o, const Scene& scene, const std::string& spec, const std::set<std::string>& given);
 
 /// Throws std::invalid_argument "unknown sampler 'x' (valid: ...)" unless `name` is a sampler.
 void checkSamplerName(const std::string& name);

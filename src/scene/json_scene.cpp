@@ -276,7 +276,7 @@ Camera sceneCamera(const Scene& scene, const json& c, bool cameraFromData, const
 
 Scene loadJsonScene(const std::string& path) {
     const json doc = parseSceneJson(path);
-    checkKeys(doc, {"obj", "mesh", "builtin", "camera", "materials", "environment", "name", "lights"}, "the scene", path);
+    checkKeys(doc, {"obj", "mesh", "builtin", "camera", "materials", "environment", "name", "lights", "render"}, "the scene", path);
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
     bool cameraFromData = false;
     Scene scene = loadGeometry(doc, dir, path, cameraFromData);
@@ -299,6 +299,10 @@ Scene loadJsonScene(const std::string& path) {
             scene.environmentMap.emplace(environmentMap(e, dir, path));
         else
             scene.environment = nonNegativeColor(e, "environment", path);
+    }
+    if (doc.contains("render")) {
+        if (!doc["render"].is_object()) throw InputError(fmt::format("{}: \"render\" must be an object of render settings", path));
+        scene.renderSettings = doc["render"].dump();
     }
     finalizeScene(scene, path, environmentGiven);
     return scene;

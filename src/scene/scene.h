@@ -49,6 +49,9 @@ struct Scene {
     std::optional<Sky> sky;                        ///< when set, rays that leave the scene see the sky instead of `environment`
     std::optional<EnvironmentMap> environmentMap;  ///< when set, they see this image (and it is light-sampled)
     std::vector<std::string> warnings;
+    /// A JSON scene's "render" object, as text: the render settings the scene asks for, applied by the
+    /// front ends through the render settings' schema (render/settings.h) under what the user gives.
+    std::string renderSettings;
 
     /// Axis-aligned bounds of the positions.
     void bounds(Vec3& lo, Vec3& hi) const;
