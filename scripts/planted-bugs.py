@@ -55,6 +55,10 @@ BUGS = [
      "    settings.trace.maxDepth = o.maxDepth;\n", "\n"),
     ("sobol-not-per-pixel", "the Sobol' 2D scramble ignores the pixel and seed (every pixel the same points)",
      "src/sampling/sampler.cpp", "const std::uint64_t h = mixSeed(key, 2 * dim);", "const std::uint64_t h = mixSeed(0 * key, 2 * dim);"),
+    ("cutout-shadow-rays", "a cut-out that camera rays see but shadow rays ignore", "src/accel/accel.cpp",
+     "        rtcSetGeometryOccludedFilterFunction(geom, cutOutFilter);\n", "\n"),
+    ("nested-node-transform", "a file whose nodes nest: the parent's transform dropped", "src/scene/assimp_loader.cpp",
+     "world * node->mChildren[i]->mTransformation", "node->mChildren[i]->mTransformation"),
 ]
 
 
