@@ -91,7 +91,10 @@ def ctest(jobs, shared):
     env = dict(os.environ, SYMPHONG_SCENES=shared, SYMPHONG_REQUIRE_SCENES="1")
     r = subprocess.run(["ctest", "--test-dir", BUILD, f"-j{jobs}", "--timeout", "900"], cwd=ROOT, stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, text=True, env=env)
-    failed = re.findall(r"^\s*\d+ - (\S+) \(", r.stdout, re.M)
+    # The list after "The following tests FAILED:"; a value-parameterized test's line carries a
+    # "# GetParam() = ..." comment between its name and its status, so only the name is matched.
+    tail = r.stdout.split("The following tests FAILED:", 1)[1] if "The following tests FAILED:" in r.stdout else ""
+    failed = re.findall(r"^\s*\d+ - (\S+)", tail, re.M)
     return r.returncode, failed
 
 
