@@ -14,6 +14,9 @@ namespace symphong {
 std::unique_ptr<Emitter> makeTriangleEmitter(const Scene& scene, std::uint32_t prim, double area, const Vec3& normal);
 /// A point light: intensity I in every direction.
 std::unique_ptr<Emitter> makePointEmitter(const Light& light);
+/// What arrives at p from a point source of intensity I (a point or spot light): the direction to it,
+/// I / d^2, the density `pick` (a delta emitter) and the shadow ray's end; false when p is at the light.
+bool samplePointSource(const Light& light, const Vec3& p, double pick, EmitterSample& s);
 /// A spot light: a point light within a cone, smoothstep falloff between its inner and outer angles.
 std::unique_ptr<Emitter> makeSpotEmitter(const Light& light);
 /// A directional light: irradiance E arriving along one direction.

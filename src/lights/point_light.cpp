@@ -16,15 +16,7 @@ public:
     bool isDelta() const override { return true; }
     double power(double) const override { return 4 * kPi * luminance(light_.intensity); }
     bool sample(const Vec3& p, Point2, double pick, EmitterSample& s) const override {
-        const Vec3 toLight = light_.position - p;
-        const double dist2 = dot(toLight, toLight);
-        if (!(dist2 > 0)) return false;
-        s.wi = toLight / std::sqrt(dist2);
-        s.radiance = light_.intensity / dist2;
-        s.pdf = pick;
-        s.target = light_.position;
-        s.toInfinity = false;
-        return !isBlack(s.radiance);
+        return samplePointSource(light_, p, pick, s) && !isBlack(s.radiance);
     }
     double pdfOfHit(const Vec3&, double, double) const override { return 0.0; }
     std::string describe() const override {
@@ -36,6 +28,18 @@ private:
 };
 
 }  // namespace
+
+bool samplePointSource(const Light& light, const Vec3& p, double pick, EmitterSample& s) {
+    const Vec3 toLight = light.position - p;
+    const double dist2 = dot(toLight, toLight);
+    if (!(dist2 > 0)) return false;
+    s.wi = toLight / std::sqrt(dist2);
+    s.radiance = light.intensity / dist2;
+    s.pdf = pick;
+    s.target = light.position;
+    s.toInfinity = false;
+    return true;
+}
 
 std::unique_ptr<Emitter> makePointEmitter(const Light& light) { return std::make_unique<PointEmitter>(light); }
 

@@ -17,15 +17,8 @@ public:
     bool isDelta() const override { return true; }
     double power(double) const override { return 2 * kPi * luminance(light_.intensity) * (1 - 0.5 * (light_.cosInner + light_.cosOuter)); }
     bool sample(const Vec3& p, Point2, double pick, EmitterSample& s) const override {
-        const Vec3 toLight = light_.position - p;
-        const double dist2 = dot(toLight, toLight);
-        if (!(dist2 > 0)) return false;
-        s.wi = toLight / std::sqrt(dist2);
-        s.radiance = light_.intensity / dist2;
+        if (!samplePointSource(light_, p, pick, s)) return false;
         s.radiance *= spotFalloff(dot(-s.wi, light_.direction), light_.cosInner, light_.cosOuter);
-        s.pdf = pick;
-        s.target = light_.position;
-        s.toInfinity = false;
         return !isBlack(s.radiance);
     }
     double pdfOfHit(const Vec3&, double, double) const override { return 0.0; }

@@ -106,6 +106,19 @@ auto runInterruptible(Work&& work) -> decltype(work(std::declval<const std::atom
     return std::move(*result);
 }
 
+/// A keyword argument that is the module's own, not a setting of a schema: taken out of `kwargs`
+/// (`fallback` when absent).
+inline py::object takeKeyword(py::dict& kwargs, const char* key, py::object fallback) {
+    if (!kwargs.contains(key)) return fallback;
+    py::object v = kwargs[key];
+    PyDict_DelItemString(kwargs.ptr(), key);
+    return v;
+}
+
+/// The `progress` keyword taken out of `kwargs`: whether to draw a progress bar (None or absent: when
+/// stderr is a terminal).
+bool takeProgress(py::dict& kwargs);
+
 void registerScene(py::module_& m);
 void registerRender(py::module_& m);
 void registerStudy(py::module_& m);

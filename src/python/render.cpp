@@ -13,20 +13,17 @@
 
 namespace symphong {
 
-namespace {
-
-/// Keyword arguments that are the module's own, not render settings: taken out of `kwargs`.
-py::object takeKeyword(py::dict& kwargs, const char* key, py::object fallback) {
-    if (!kwargs.contains(key)) return fallback;
-    py::object v = kwargs[key];
-    PyDict_DelItemString(kwargs.ptr(), key);
-    return v;
+bool takeProgress(py::dict& kwargs) {
+    const py::object progress = takeKeyword(kwargs, "progress", py::none());
+    return progress.is_none() ? stderrIsTerminal() : progress.cast<bool>();
 }
+
+namespace {
 
 py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
     py::dict kwargs = py::dict(given);  // a copy: the module's own keywords are taken out of it
     const bool variance = takeKeyword(kwargs, "variance", py::bool_(false)).cast<bool>();
-    const py::object progressArg = takeKeyword(kwargs, "progress", py::none());
+    const bool showProgress = takeProgress(kwargs);
     RenderOptions o;
     pyschema::applyKwargs(o, renderSchema(), kwargs, "render");
     const std::shared_ptr<PyScene> scene = sceneArgument(sceneArg);
@@ -39,7 +36,6 @@ py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
         throw InputError(fmt::format("estimator: {}", e.what()));
     }
     const RenderSettings s = renderSettings(o);
-    const bool showProgress = progressArg.is_none() ? stderrIsTerminal() : progressArg.cast<bool>();
 
     const RenderResult r = runInterruptible([&](const std::atomic<bool>& cancel) {
         RenderSettings settings = s;

@@ -29,11 +29,7 @@ py::object furnacePy(const py::kwargs& kwargs) {
 
 py::tuple studyPy(const py::object& scene, const py::kwargs& given) {
     py::dict kwargs = py::dict(given);
-    py::object progressArg = py::none();
-    if (kwargs.contains("progress")) {
-        progressArg = kwargs["progress"];
-        PyDict_DelItemString(kwargs.ptr(), "progress");
-    }
+    const bool showProgress = takeProgress(kwargs);
     StudyOptions o;
     if (py::isinstance<PyScene>(scene))
         o.config.scene = scene.cast<const PyScene&>().spec();
@@ -43,7 +39,6 @@ py::tuple studyPy(const py::object& scene, const py::kwargs& given) {
         throw py::type_error("scene: expected a symphong.Scene or a spec string");
     pyschema::applyKwargs(o, studySchema(), kwargs, "study");
     const StudyConfig c = toStudyConfig(o, false);
-    const bool showProgress = progressArg.is_none() ? stderrIsTerminal() : progressArg.cast<bool>();
     const StudyOutcome outcome = runInterruptible([&](const std::atomic<bool>& cancel) { return runStudy(c, &cancel, showProgress); });
     if (c.plots && !outcome.plotted)
         throw std::runtime_error("the study's plots could not be made (needs python3 with matplotlib); pass plots=False to skip them");
