@@ -2,7 +2,8 @@
 // render/path_tracer): the sampler's density integrates to 1 over the sphere and its directions pass a
 // chi-square test against it; a map of constant value renders the same image as the constant
 // environment with every estimator (light sampling + MIS against each); a map black but for one texel
-// lights a plane with the irradiance of that texel's solid angle; JSON errors.
+// lights a plane with the irradiance of that texel's solid angle; a rotated map is seen and sampled where
+// the documented formula puts each texel, in proportion to its luminance; JSON errors.
 #include "stats.h"
 #include "test_util.h"
 
@@ -13,7 +14,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 using namespace symphong;
 using symphong::test::integrateOverSphere;
@@ -114,6 +117,57 @@ TEST(EnvironmentMap, SamplerDensityIntegratesToOneAndMatchesItsDirections) {
         EXPECT_NEAR(total, 1.0, 1e-9);
         const auto r = test::chiSquareCounts(observed, expected, test::sidakAlpha(2));
         EXPECT_TRUE(r.passed) << filterName(filter) << ": " << r.describe();
+    }
+}
+
+// Rotation and density against the map itself. Directions are put into texels by the documented mapping
+// written out here (u = 1/2 + atan2(x, -z) / 2 pi - rotation / 360, t = theta / pi; docs/scene-format.md),
+// never through toImage/fromImage, so a rotation turned the wrong way in both stays visible. Each texel's
+// share of the samples must be its luminance x sin(theta at its centre) over the sum of those (the density
+// the header promises: proportional to Y over the sphere up to sin(theta_c)/sin(theta) inside a texel).
+TEST(EnvironmentMap, RotatedMapIsSeenAndSampledWhereTheFormulaPutsItsTexels) {
+    const int w = 16, h = 8;
+    const Texture img = variedImage(w, h);
+    for (const double rotation : {0.0, 90.0, -37.5}) {
+        const EnvironmentMap env(img, 1.0, rotation, EnvironmentMap::Filter::Nearest);
+        const auto direction = [&](double u, double t) {
+            const double phi = kTwoPi * (u - 0.5 + rotation / 360.0), theta = kPi * t;
+            return Vec3(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+        };
+        const auto texelOf = [&](const Vec3& d) {
+            double u = 0.5 + std::atan2(d.x, -d.z) / kTwoPi - rotation / 360.0;
+            u -= std::floor(u);
+            const double t = std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi;
+            return std::pair{std::min(w - 1, static_cast<int>(u * w)), std::min(h - 1, static_cast<int>(t * h))};
+        };
+        std::vector<double> share(static_cast<std::size_t>(w * h));
+        double total = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const Color texel = img.texelRgb(x, y);
+                const Color seen = env.radiance(direction((x + 0.5) / w, (y + 0.5) / h));
+                ASSERT_NEAR(seen.x, texel.x, 1e-6) << "rotation " << rotation << ", texel " << x << ", " << y;
+                ASSERT_NEAR(seen.z, texel.z, 1e-6) << "rotation " << rotation << ", texel " << x << ", " << y;
+                share[static_cast<std::size_t>(y * w + x)] = luminance(texel) * std::sin(kPi * (y + 0.5) / h);
+                total += share[static_cast<std::size_t>(y * w + x)];
+            }
+        for (double& s : share) s /= total;
+        Rng rng(17, static_cast<std::uint64_t>(rotation + 100));
+        const int n = 200000;
+        std::vector<double> observed(share.size(), 0.0), expected(share.size());
+        for (int i = 0; i < n; ++i) {
+            double p;
+            const Vec3 d = env.sample(rng.uniform2(), p);
+            const auto [x, y] = texelOf(d);
+            observed[static_cast<std::size_t>(y * w + x)] += 1;
+            // The solid-angle density from the texel's share: share x W H / (2 pi^2 sin theta).
+            const double sinTheta = std::sqrt(std::max(0.0, 1 - d.y * d.y));
+            const double fromShare = share[static_cast<std::size_t>(y * w + x)] * w * h / (2 * kPi * kPi * sinTheta);
+            ASSERT_NEAR(env.pdf(d), fromShare, 1e-6 * fromShare) << "rotation " << rotation << ", texel " << x << ", " << y;
+        }
+        for (std::size_t k = 0; k < share.size(); ++k) expected[k] = share[k] * n;
+        const auto r = test::chiSquareCounts(observed, expected, test::sidakAlpha(3));
+        EXPECT_TRUE(r.passed) << "rotation " << rotation << ": " << r.describe();
     }
 }
 
