@@ -1,5 +1,5 @@
-// Files whose nodes nest place their meshes by the whole chain of transforms (parent x child), in glTF
-// and Collada written by hand: a triangle under a child node (scaled, rotated, translated) under a
+// Files whose nodes nest place their meshes by the whole chain of transforms (parent x child), in glTF,
+// Collada and (ASCII) FBX written by hand: a triangle under a child node (scaled, rotated, translated) under a
 // translated parent, its loaded vertices against the product of the matrices written out here.
 #include "test_util.h"
 
@@ -95,4 +95,58 @@ TEST(NodeTransforms, ColladaChildNodesAreTransformedByTheirParents) {
 </COLLADA>
 )");
     expectPlaced(loadScene(dir.file("nested.dae")), "Collada");
+}
+
+// FBX 7.4 in its ASCII form, the least a reader needs: two Models connected child -> parent -> root, the
+// geometry connected to the child. A Model's transform with no pivots or offsets is T R S (FBX's
+// default rotation order XYZ; only z turns here); Lcl Rotation is in degrees.
+TEST(NodeTransforms, FbxChildModelsAreTransformedByTheirParents) {
+    test::TempDir dir;
+    const auto model = [](long id, const char* name, const char* props) {
+        return "\tModel: " + std::to_string(id) + ", \"Model::" + name + "\", \"Mesh\" {\n\t\tVersion: 232\n" +
+               "\t\tProperties70:  {\n" + props + "\t\t}\n\t\tShading: T\n\t\tCulling: \"CullingOff\"\n\t}\n";
+    };
+    std::string fbx = R"(; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+	Creator: "symphong tests/test_node_transforms.cpp"
+}
+GlobalSettings:  {
+	Version: 1000
+	Properties70:  {
+		P: "UpAxis", "int", "Integer", "",1
+		P: "UpAxisSign", "int", "Integer", "",1
+		P: "FrontAxis", "int", "Integer", "",2
+		P: "FrontAxisSign", "int", "Integer", "",1
+		P: "CoordAxis", "int", "Integer", "",0
+		P: "CoordAxisSign", "int", "Integer", "",1
+		P: "UnitScaleFactor", "double", "Number", "",100
+	}
+}
+Objects:  {
+	Geometry: 3000, "Geometry::Tri", "Mesh" {
+		Vertices: *9 {
+			a: 0,0,0,1,0,0,0,1,0
+		}
+		PolygonVertexIndex: *3 {
+			a: 0,1,-3
+		}
+		GeometryVersion: 124
+	}
+)";
+    fbx += model(1000, "Parent", "\t\t\tP: \"Lcl Translation\", \"Lcl Translation\", \"\", \"A\",10,0,0\n");
+    fbx += model(2000, "Child",
+                 "\t\t\tP: \"Lcl Translation\", \"Lcl Translation\", \"\", \"A\",0,5,0\n"
+                 "\t\t\tP: \"Lcl Rotation\", \"Lcl Rotation\", \"\", \"A\",0,0,90\n"
+                 "\t\t\tP: \"Lcl Scaling\", \"Lcl Scaling\", \"\", \"A\",2,2,2\n");
+    fbx += R"(}
+Connections:  {
+	C: "OO",1000,0
+	C: "OO",2000,1000
+	C: "OO",3000,2000
+}
+)";
+    dir.write("nested.fbx", fbx);
+    expectPlaced(loadScene(dir.file("nested.fbx")), "FBX");
 }
