@@ -17,6 +17,7 @@ namespace symphong {
 
 class Estimator;
 class MpiJob;
+struct Scene;
 
 /// The exit code of bad input (every InputError).
 inline constexpr int kBadInput = 2;
@@ -31,6 +32,10 @@ std::string versionText();
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& o);
 /// given: the schema keys of the options on the command line (the scene's "render" settings fill the rest).
 int runRender(const RenderOptions& o, const std::set<std::string>& given, const MpiJob& job);
+
+/// `symphong render` in passes (RenderOptions::progressive()): stop rules, checkpoints, resume
+/// (long_render.cpp). Returns the exit code (128 + the signal when SIGINT or SIGTERM stopped it).
+int renderInPasses(const RenderOptions& o, const Scene& scene, const Estimator& estimator, const std::string& output, const MpiJob& job);
 
 void addInfoCommand(CLI::App& app, std::string& scene);
 int runInfo(const std::string& spec);

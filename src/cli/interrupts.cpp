@@ -9,13 +9,18 @@
 namespace symphong {
 
 std::atomic<bool> gInterrupted{false};
+std::atomic<int> gInterruptSignal{0};
 
 namespace {
 
 std::atomic<bool> gRendering{false};
 constexpr char kLauncherStopped[] = "symphong: the MPI launcher is stopping the job (Ctrl-C, or a rank ended)\n";
 
-extern "C" void onInterrupt(int) { gInterrupted.store(true); }
+extern "C" void onInterrupt(int signal) {
+    int none = 0;
+    gInterruptSignal.compare_exchange_strong(none, signal);
+    gInterrupted.store(true);
+}
 
 extern "C" void onLauncherStopStudy(int) {
     if (!gInterrupted.exchange(true)) [[maybe_unused]]
@@ -35,7 +40,10 @@ extern "C" void onLauncherStopRender(int) {
 LauncherStopGuard::LauncherStopGuard(const MpiJob& job, LauncherStop what) {
     const bool shared = job.size() > 1;
     gInterrupted = false;
-    if (what == LauncherStop::EndRender) {
+    gInterruptSignal = 0;
+    if (what == LauncherStop::StopRender) {
+        install(SIGINT, onInterrupt), install(SIGTERM, onInterrupt);
+    } else if (what == LauncherStop::EndRender) {
         if (!shared || !job.root()) return;
         gRendering = true;
         install(SIGTERM, onLauncherStopRender);

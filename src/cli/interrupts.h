@@ -14,10 +14,15 @@ namespace symphong {
 
 class MpiJob;
 
-/// Set by the handlers when a study should stop.
+/// Set by the handlers when a study or a render in passes should stop.
 extern std::atomic<bool> gInterrupted;
+/// The signal that set gInterrupted (SIGINT or SIGTERM), 0 before one arrives.
+extern std::atomic<int> gInterruptSignal;
 
-enum class LauncherStop { EndRender, StopStudy };
+/// EndRender: a one-pass render ends at once under the MPI launcher's SIGTERM. StopStudy: a study stops
+/// cleanly. StopRender: a render in passes (render/progressive.h) stops after the tiles in flight and
+/// keeps what it has (its checkpoint and image), on SIGINT and SIGTERM alike (Slurm sends SIGTERM).
+enum class LauncherStop { EndRender, StopStudy, StopRender };
 
 /// Installs the interruption handlers for the scope of a render or a study, and restores the previous
 /// ones. Without MPI: a study handles SIGINT and SIGTERM (a batch system's stop) alike; a render keeps

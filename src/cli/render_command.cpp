@@ -75,6 +75,7 @@ int runRender(const RenderOptions& given, const std::set<std::string>& givenKeys
     if (!error.empty()) throw InputError(error);
     if (job.root())
         for (const std::string& w : scene.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
+    if (o.progressive()) return renderInPasses(o, scene, *estimator, output, job);
 
     const RenderSettings settings = renderSettings(o);
 

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 #include <cctype>
 #include <cerrno>
@@ -63,6 +64,33 @@ void writeAtomically(const std::string& path, const std::function<void(const std
         std::error_code ec;
         std::filesystem::remove(tmp, ec);
         throw InputError(fmt::format("{}: cannot write: {}", path, e.what()));
+    }
+}
+
+namespace {
+
+/// fsync of a file or directory; throws std::runtime_error naming what failed.
+void syncToDisk(const std::string& path, bool directory) {
+    const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
+    if (fd < 0) throw std::runtime_error(fmt::format("cannot open {} to flush it: {}", path, std::strerror(errno)));
+    const int rc = ::fsync(fd);
+    const int err = errno;
+    ::close(fd);
+    if (rc != 0) throw std::runtime_error(fmt::format("cannot flush {} to the disk: {}", path, std::strerror(err)));
+}
+
+}  // namespace
+
+void writeDurably(const std::string& path, const std::function<void(const std::string&)>& write) {
+    writeAtomically(path, [&](const std::string& tmp) {
+        write(tmp);
+        syncToDisk(tmp, false);
+    });
+    const std::string dir = fs::path(path).parent_path().string();
+    try {
+        syncToDisk(dir.empty() ? "." : dir, true);
+    } catch (const std::exception& e) {
+        throw InputError(fmt::format("{}: {}", path, e.what()));
     }
 }
 

@@ -24,6 +24,11 @@ void checkCanCreate(const std::string& path);
 /// failure removes the temporary file and throws InputError naming `path`.
 void writeAtomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);
 
+/// writeAtomically that also survives a crash of the machine: the temporary file is flushed to the disk
+/// (fsync) before it is renamed, and the directory after, so the target is the old file or the whole new
+/// one even after a power cut (checkpoints, render/checkpoint.h).
+void writeDurably(const std::string& path, const std::function<void(const std::string& tmp)>& write);
+
 /// writeAtomically for the bytes of a string (text or binary).
 void writeFile(const std::string& path, const std::string& bytes);
 

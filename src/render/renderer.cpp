@@ -19,7 +19,7 @@ namespace symphong {
 void requireImageMemory(int width, int height) {
     const std::uint64_t pixels =
         saturatingMultiply(static_cast<std::uint64_t>(std::max(0, width)), static_cast<std::uint64_t>(std::max(0, height)));
-    requireMemory(saturatingMultiply(pixels, 96), fmt::format("image size {}x{}", width, height));
+    requireMemory(saturatingMultiply(pixels, kImageBytesPerPixel), fmt::format("image size {}x{}", width, height));
 }
 
 int tileCount(int width, int height) { return ((width + kRenderTile - 1) / kRenderTile) * ((height + kRenderTile - 1) / kRenderTile); }
@@ -42,22 +42,44 @@ void cameraRay(const Camera& cam, int width, int height, double px, double py, V
     dir = normalize(forward + right * sx + up * sy);
 }
 
-RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
-                    std::atomic<std::uint64_t>* progress) {
-    const auto start = std::chrono::steady_clock::now();
-    RenderResult result;
-    result.image = Image(settings.width, settings.height);
-    result.variance = Image(settings.width, settings.height);
-    const PathTracer tracer(scene, accel, estimator, settings.trace);
-    result.sampler = effectiveSampler(estimator, settings.sampler);
-    const auto sampler = makeSampler(result.sampler, settings.spp, settings.seed);
+namespace {
 
-    const int tiles = tileCount(settings.width, settings.height);
+/// Runs renderTile over every tile (or those settings.tiles gives out) on settings.threads threads.
+template <class Fn>
+void forEachTile(const RenderSettings& settings, Fn&& renderTile) {
+    // --threads N means N threads even above the core count (TBB otherwise caps its workers there).
+    std::optional<tbb::global_control> allow;
+    if (settings.threads > 0) allow.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(settings.threads));
+    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        if (!settings.tiles) {
+            tbb::parallel_for(0, tileCount(settings.width, settings.height), [&](int tile) { renderTile(tile); });
+            return;
+        }
+        // Tiles from a source: one loop per worker thread, each taking tiles until the source is dry.
+        tbb::task_group workers;
+        for (int w = 0; w < arena.max_concurrency(); ++w)
+            workers.run([&] {
+                for (int tile; settings.tiles->next(tile);) renderTile(tile);
+            });
+        workers.wait();
+    });
+}
+
+}  // namespace
+
+void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
+                   std::uint32_t upTo, std::atomic<std::uint64_t>* progress) {
+    const auto start = std::chrono::steady_clock::now();
+    const PathTracer tracer(scene, accel, estimator, settings.trace);
+    const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
+    upTo = std::min(upTo, state.sppBound);
     std::mutex statsMutex;
-    const std::uint32_t spp = settings.spp;
 
     const auto renderTile = [&](int tile) {
         if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) return;
+        const std::uint32_t from = state.tileSamples[static_cast<std::size_t>(tile)];
+        if (from >= upTo) return;
         int x0, y0, x1, y1;
         tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
         TraceStats stats;
@@ -65,8 +87,9 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
         for (int y = y0; y < y1; ++y) {
             for (int x = x0; x < x1; ++x) {
                 const std::uint64_t pixel = static_cast<std::uint64_t>(y) * settings.width + x;
-                Color sum(0.0), sumSq(0.0);
-                for (std::uint32_t i = 0; i < spp; ++i) {
+                Color sum = state.sum[pixel], sumSq = state.sumSq[pixel];
+                double sumYSq = state.sumLuminanceSq[pixel];
+                for (std::uint32_t i = from; i < upTo; ++i) {
                     SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
                     const Point2 jitter = samples.get2D();
                     Vec3 o, d;
@@ -78,44 +101,43 @@ RenderResult render(const Scene& scene, const Accel& accel, const Estimator& est
                     }
                     sum += L;
                     sumSq += L * L;
+                    sumYSq += luminance(L) * luminance(L);
                 }
-                const Color mean = sum / spp;
-                result.image.at(x, y) = mean;
-                if (spp > 1) {
-                    const Color var = vmax(Color(0.0), (sumSq - sum * mean) / (spp - 1.0));
-                    result.variance.at(x, y) = var / spp;
-                }
+                state.sum[pixel] = sum, state.sumSq[pixel] = sumSq, state.sumLuminanceSq[pixel] = sumYSq;
             }
-            if (progress) progress->fetch_add(static_cast<std::uint64_t>(x1 - x0) * spp, std::memory_order_relaxed);
+            if (progress) progress->fetch_add(static_cast<std::uint64_t>(x1 - x0) * (upTo - from), std::memory_order_relaxed);
         }
+        state.tileSamples[static_cast<std::size_t>(tile)] = upTo;
         {
             std::lock_guard<std::mutex> lock(statsMutex);
-            result.stats.rays += stats.rays;
-            result.stats.badSamples += stats.badSamples;
+            state.rays += stats.rays;
+            state.badSamples += stats.badSamples;
+            state.samples += static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0) * (upTo - from);
         }
         if (settings.onTileDone) settings.onTileDone();
     };
+    forEachTile(settings, renderTile);
+    state.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
-    // --threads N means N threads even above the core count (TBB otherwise caps its workers there).
-    std::optional<tbb::global_control> allow;
-    if (settings.threads > 0) allow.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(settings.threads));
-    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-        if (!settings.tiles) {
-            tbb::parallel_for(0, tiles, [&](int tile) { renderTile(tile); });
-            return;
-        }
-        // Tiles from a source: one loop per worker thread, each taking tiles until the source is dry.
-        tbb::task_group workers;
-        for (int w = 0; w < arena.max_concurrency(); ++w)
-            workers.run([&] {
-                for (int tile; settings.tiles->next(tile);) renderTile(tile);
-            });
-        workers.wait();
-    });
-    result.stats.samples = static_cast<std::uint64_t>(settings.width) * settings.height * spp;
+RenderResult resultOf(const RenderState& state, const std::string& sampler) {
+    RenderResult result;
+    result.image = state.image();
+    result.variance = state.variance();
+    result.stats.seconds = state.seconds;
+    result.stats.rays = state.rays;
+    result.stats.samples = state.samples;
+    result.stats.badSamples = state.badSamples;
+    result.sampler = sampler;
+    return result;
+}
+
+RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                    std::atomic<std::uint64_t>* progress) {
+    RenderState state(settings.width, settings.height, settings.spp);
+    renderSamples(scene, accel, estimator, settings, state, settings.spp, progress);
+    RenderResult result = resultOf(state, effectiveSampler(estimator, settings.sampler));
     result.cancelled = settings.cancel && settings.cancel->load();
-    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
 

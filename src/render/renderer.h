@@ -6,6 +6,7 @@
 
 #include "io/image.h"
 #include "render/path_tracer.h"
+#include "render/render_state.h"
 
 #include <atomic>
 #include <cstdint>
@@ -18,8 +19,12 @@ namespace symphong {
 /// and the Python module refuse larger sizes as bad input.
 inline constexpr long kMaxImagePixels = 64L * 1024 * 1024;
 
-/// Refuses (InputError) an image whose render buffers (mean, variance and their accumulators, about
-/// 96 bytes a pixel) would need more than io/memory.h allows.
+/// What an image takes while it renders: its running sums (RenderState, 56 bytes a pixel) and the mean
+/// and variance images made from them (48).
+inline constexpr std::uint64_t kImageBytesPerPixel = 104;
+
+/// Refuses (InputError) an image whose render buffers (kImageBytesPerPixel) would need more than
+/// io/memory.h allows.
 void requireImageMemory(int width, int height);
 
 /// Images are rendered in square tiles of this many pixels, numbered row by row from the top left.
@@ -75,7 +80,19 @@ struct RenderResult {
 /// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image.
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir);
 
-/// Renders the scene. `progress`, when given, is advanced by the number of camera samples finished.
+/// Takes every tile of `state` (or those settings.tiles gives out) from its own count of samples up to
+/// `upTo` (at most state.sppBound, the sampler's pattern size), adding each sample to its pixel's sums in
+/// the order of its index; adds the rays, samples and time to the state. A cancellation
+/// (settings.cancel) skips the tiles not yet begun: each tile is either taken to `upTo` or left as it was.
+/// settings.width and height must be the state's; settings.spp is not used (state.sppBound is).
+void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
+                   std::uint32_t upTo, std::atomic<std::uint64_t>* progress = nullptr);
+
+/// The image, variance and statistics of a state (the sampler's name recorded as given).
+RenderResult resultOf(const RenderState& state, const std::string& sampler);
+
+/// Renders the scene in one pass of settings.spp samples. `progress`, when given, is advanced by the
+/// number of camera samples finished.
 RenderResult render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                     std::atomic<std::uint64_t>* progress = nullptr);
 

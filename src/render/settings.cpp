@@ -15,13 +15,67 @@ void checkSamplerName(const std::string& name) {
         throw std::invalid_argument(fmt::format("unknown sampler '{}' (valid: {})", name, fmt::join(samplerNames(), ", ")));
 }
 
+namespace {
+
+/// Passes, stop rules and checkpoints: none of them changes a pixel's value, only how many samples are
+/// taken (docs/rendering.md "Long renders").
+void addProgressiveFields(schema::Schema<RenderOptions>& s) {
+    using F = schema::Field<RenderOptions>;
+    using schema::member;
+    s.push_back(F("time", "--time",
+                  "stop after the pass in flight once the render has taken this many seconds (earlier runs of a "
+                  "resumed render included); 0: no limit",
+                  member(&RenderOptions::time))
+                    .range(0, 1e9)
+                    .keepsPixels());
+    s.push_back(F("target_error", "--target-error",
+                  "stop once the relative standard error of the image's mean luminance (or of each --target-region's) is at most "
+                  "this, e.g. 0.01; 0: none. --spp stays the upper bound",
+                  member(&RenderOptions::targetError))
+                    .range(0, 1)
+                    .keepsPixels());
+    s.push_back(F("target_region", "--target-region",
+                  "X,Y,W,H: a rectangle of pixels whose mean --target-error applies to (repeat the option for more; the whole image "
+                  "when none)",
+                  member(&RenderOptions::targetRegions))
+                    .range(0, 16384)
+                    .noDefaultShown()
+                    .keepsPixels());
+    s.push_back(F("pass_spp", "--pass-spp",
+                  "samples per pixel in each pass (0: passes of about 2 s, shorter when checkpoints are frequent)",
+                  member(&RenderOptions::passSpp))
+                    .range(0, 1000000)
+                    .keepsPixels());
+    s.push_back(F("checkpoint", "--checkpoint",
+                  "write the render's state to this file every --checkpoint-interval seconds, at the end and when stopped by "
+                  "SIGINT or SIGTERM (default with --resume: the output's name + .ckpt)",
+                  member(&RenderOptions::checkpoint))
+                    .only(schema::kCli | schema::kPython)
+                    .noDefaultShown()
+                    .keepsPixels());
+    s.push_back(F("checkpoint_interval", "--checkpoint-interval", "seconds of render time between checkpoints",
+                  member(&RenderOptions::checkpointInterval))
+                    .mustBePositive()
+                    .only(schema::kCli | schema::kPython)
+                    .keepsPixels());
+    s.push_back(F("resume", "--resume",
+                  "continue from the checkpoint if there is one (the image is bit for bit the uninterrupted render's); start "
+                  "from the beginning if there is none",
+                  member(&RenderOptions::resume))
+                    .only(schema::kCli | schema::kPython)
+                    .keepsPixels());
+}
+
+}  // namespace
+
 const schema::Schema<RenderOptions>& renderSchema() {
     using F = schema::Field<RenderOptions>;
     using schema::member;
     static const schema::Schema<RenderOptions> fields = [] {
         schema::Schema<RenderOptions> s;
         s.push_back(F("scene", "scene", "cornell, FILE.obj, FILE.gltf/.glb/.ply/.fbx/.dae/.3ds or FILE.json", member(&RenderOptions::scene))
-                        .only(schema::kCli | schema::kJson));
+                        .only(schema::kCli | schema::kJson)
+                        .keepsPixels());
         s.push_back(F("estimator", "--estimator,-e",
                       "reflected-radiance estimator: " + fmt::format("{}", fmt::join(estimatorNames(), ", ")),
                       member(&RenderOptions::estimator)));
@@ -35,15 +89,19 @@ const schema::Schema<RenderOptions>& renderSchema() {
         s.push_back(F("max_depth", "--max-depth,-d", "most scattering events per path (0: emitters only)", member(&RenderOptions::maxDepth))
                         .range(0, 1024));
         s.push_back(F("seed", "--seed", "random seed", member(&RenderOptions::seed)));
-        s.push_back(F("threads", "--threads,-t", "worker threads, 0 = all cores", member(&RenderOptions::threads)).range(0, 4096));
+        s.push_back(
+            F("threads", "--threads,-t", "worker threads, 0 = all cores", member(&RenderOptions::threads)).range(0, 4096).keepsPixels());
         s.push_back(F("output", "--output,-o", "output image, .png or .exr (default: out/<scene-name>.png)", member(&RenderOptions::output))
                         .only(schema::kCli)
-                        .noDefaultShown());
+                        .noDefaultShown()
+                        .keepsPixels());
         s.push_back(F("exposure", "--exposure", "linear scale applied before PNG clamping", member(&RenderOptions::exposure))
                         .mustBePositive()
-                        .only(schema::kCli | schema::kJson));
+                        .only(schema::kCli | schema::kJson)
+                        .keepsPixels());
         s.push_back(F("exr_half", "--exr-half", "write EXR as 16-bit half instead of 32-bit float", member(&RenderOptions::exrHalf))
-                        .only(schema::kCli | schema::kJson));
+                        .only(schema::kCli | schema::kJson)
+                        .keepsPixels());
         s.push_back(F("split", "--split",
                       "first-hit splitting: trace K directions per camera sample from its first hit (K calls of the estimator on "
                       "sub-samples of the pixel's pattern, each weighted 1/K)",
@@ -65,6 +123,7 @@ const schema::Schema<RenderOptions>& renderSchema() {
                       member(&RenderOptions::noNee))
                         .python("nee", true));
         for (auto& f : schema::nested(estimatorOptionsSchema(), &RenderOptions::estimatorOptions)) s.push_back(std::move(f));
+        addProgressiveFields(s);
         return s;
     }();
     return fields;
@@ -90,6 +149,26 @@ void checkRenderOptions(const RenderOptions& o) {
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
     requireImageMemory(o.width, o.height);
     if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
+}
+
+StopRules stopRules(const RenderOptions& o) {
+    StopRules rules;
+    rules.timeLimit = o.time;
+    rules.targetError = o.targetError;
+    rules.passSpp = o.passSpp;
+    if (o.targetRegions.size() % 4 != 0)
+        throw InputError(fmt::format("--target-region: {} numbers; each region is four (X,Y,W,H)", o.targetRegions.size()));
+    for (std::size_t i = 0; i < o.targetRegions.size(); i += 4) {
+        const PixelRect r{o.targetRegions[i], o.targetRegions[i + 1], o.targetRegions[i + 2], o.targetRegions[i + 3]};
+        if (r.width < 1 || r.height < 1 || r.x + r.width > o.width || r.y + r.height > o.height)
+            throw InputError(fmt::format("--target-region {},{},{},{}: not a non-empty rectangle inside the {}x{} image", r.x, r.y, r.width,
+                                         r.height, o.width, o.height));
+        rules.regions.push_back(r);
+    }
+    if (!o.targetRegions.empty() && !(o.targetError > 0))
+        throw InputError("--target-region needs --target-error (the error its mean must reach)");
+    if (!o.checkpoint.empty() || o.resume) rules.passSeconds = std::min(rules.passSeconds, o.checkpointInterval / 4);
+    return rules;
 }
 
 RenderSettings renderSettings(const RenderOptions& o) {

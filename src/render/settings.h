@@ -6,6 +6,7 @@
 #pragma once
 
 #include "estimators/estimator.h"
+#include "render/progressive.h"
 #include "render/renderer.h"
 #include "util/schema.h"
 
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace symphong {
 
@@ -34,6 +36,17 @@ struct RenderOptions {
     std::uint32_t firstBounceStream = 0;
     bool jointFirstBounce = false;
     EstimatorOptions estimatorOptions;
+    // Progressive rendering (render/progressive.h, render/checkpoint.h).
+    double time = 0;
+    double targetError = 0;
+    std::vector<int> targetRegions;  ///< x, y, width, height of each region, flattened
+    std::uint32_t passSpp = 0;
+    std::string checkpoint;
+    double checkpointInterval = 60;
+    bool resume = false;
+
+    /// Whether the render goes in passes: a stop rule, a pass size or a checkpoint was asked for.
+    bool progressive() const { return time > 0 || targetError > 0 || passSpp > 0 || !checkpoint.empty() || resume; }
 };
 
 /// Every field of RenderOptions, in the order `symphong render --help` lists them.
@@ -45,6 +58,10 @@ void checkRenderOptions(const RenderOptions& o);
 
 /// The renderer's settings for these options.
 RenderSettings renderSettings(const RenderOptions& o);
+
+/// The stop rules of these options (render/progressive.h); checks the regions against the image
+/// (InputError naming the region).
+StopRules stopRules(const RenderOptions& o);
 
 /// The scene's own render settings (a JSON scene's "render" object, Scene::renderSettings) under the
 /// options the user gave (`given`: their schema keys): each setting the user did not give is read from

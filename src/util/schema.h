@@ -72,13 +72,14 @@ struct Field {
     std::function<std::vector<std::string>()> names;  ///< command line: a name that must be one of these
     std::function<void(const std::string&)> check;    ///< a string's own check (throws std::invalid_argument)
     unsigned where = kEverywhere;
-    std::string pythonKey;    ///< Python keyword when it differs from key (negated flags)
-    bool negated = false;     ///< a bool that the command-line flag sets and Python names by its opposite
-    bool showDefault = true;  ///< command line: show the default in --help
-    bool nullable = false;    ///< Python: None stands for the default (an empty string)
-    bool nameList = false;    ///< Python: a string "a,b" or a sequence of strings (joined with commas)
-    bool pythonRange = true;  ///< false: Python leaves the range to the library's own check (its message)
-    std::string typeName;     ///< command line: type name shown in --help (text fields)
+    std::string pythonKey;      ///< Python keyword when it differs from key (negated flags)
+    bool negated = false;       ///< a bool that the command-line flag sets and Python names by its opposite
+    bool showDefault = true;    ///< command line: show the default in --help
+    bool nullable = false;      ///< Python: None stands for the default (an empty string)
+    bool nameList = false;      ///< Python: a string "a,b" or a sequence of strings (joined with commas)
+    bool pythonRange = true;    ///< false: Python leaves the range to the library's own check (its message)
+    std::string typeName;       ///< command line: type name shown in --help (text fields)
+    bool changesPixels = true;  ///< false: the field cannot change a pixel's value (threads, output, stop rules)
 
     Field(std::string k, std::string f, std::string h, Access<S> a)
         : key(std::move(k)), flags(std::move(f)), help(std::move(h)), access(std::move(a)) {}
@@ -126,6 +127,10 @@ struct Field {
         pythonRange = false;
         return std::move(*this);
     }
+    Field&& keepsPixels() && {
+        changesPixels = false;
+        return std::move(*this);
+    }
     Field&& type(std::string t) && {
         typeName = std::move(t);
         return std::move(*this);
@@ -164,6 +169,7 @@ Schema<S> nested(const Schema<O>& inner, O S::*outer, const std::vector<std::str
         g.lo = f.lo, g.hi = f.hi, g.positive = f.positive, g.oneOf = f.oneOf, g.names = f.names, g.check = f.check;
         g.where = f.where, g.pythonKey = f.pythonKey, g.negated = f.negated, g.showDefault = f.showDefault;
         g.nullable = f.nullable, g.nameList = f.nameList, g.pythonRange = f.pythonRange, g.typeName = f.typeName;
+        g.changesPixels = f.changesPixels;
         out.push_back(std::move(g));
     }
     return out;
@@ -190,6 +196,16 @@ nlohmann::json toJson(const S& s, const Schema<S>& schema) {
     nlohmann::json out = nlohmann::json::object();
     for (const Field<S>& f : schema)
         if (f.in(kJson)) out[f.key] = valueOf(f, s);
+    return out;
+}
+
+/// The fields of s that can change pixel values (every field but those marked keepsPixels()), wherever
+/// they are offered: what identifies a render's image (render/checkpoint.h).
+template <class S>
+nlohmann::json pixelSettingsJson(const S& s, const Schema<S>& schema) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const Field<S>& f : schema)
+        if (f.changesPixels) out[f.key] = valueOf(f, s);
     return out;
 }
 

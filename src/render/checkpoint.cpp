@@ -1,0 +1,181 @@
+#include "render/checkpoint.h"
+
+#include "io/files.h"
+#include "io/input_error.h"
+#include "render/describe.h"
+#include "render/renderer.h"
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace symphong {
+
+namespace {
+
+constexpr char kMagic[] = "symphong checkpoint 1\n";
+static_assert(std::endian::native == std::endian::little, "checkpoints are written little-endian");
+
+/// A streaming 64-bit hash of bytes (8 at a time, a multiply-xorshift per word): fast enough for a
+/// 4K checkpoint's 460 MB, and any damage of a byte changes it.
+class Hasher {
+public:
+    void add(const void* data, std::size_t n) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        std::size_t i = 0;
+        for (; i + 8 <= n; i += 8) {
+            std::uint64_t w;
+            std::memcpy(&w, p + i, 8);
+            mix(w);
+        }
+        std::uint64_t tail = 0;
+        std::memcpy(&tail, p + i, n - i);
+        mix(tail ^ (static_cast<std::uint64_t>(n - i) << 56));
+    }
+    std::uint64_t value() const { return h_; }
+
+private:
+    void mix(std::uint64_t w) {
+        h_ = (h_ ^ w) * 0x9E3779B97F4A7C15ull;
+        h_ ^= h_ >> 29;
+    }
+    std::uint64_t h_ = 0x243F6A8885A308D3ull;
+};
+
+std::string hex(std::uint64_t v) { return fmt::format("{:016x}", v); }
+
+/// The sections after the header, in file order: pointer and byte count.
+template <class State, class Fn>
+void forEachSection(State& s, Fn&& fn) {
+    fn(s.tileSamples.data(), s.tileSamples.size() * sizeof(std::uint32_t));
+    fn(s.sum.data(), s.sum.size() * sizeof(Color));
+    fn(s.sumSq.data(), s.sumSq.size() * sizeof(Color));
+    fn(s.sumLuminanceSq.data(), s.sumLuminanceSq.size() * sizeof(double));
+}
+
+nlohmann::json headerOf(const RenderIdentity& id, const RenderState& s) {
+    return {{"scene", id.scene},
+            {"scene_hash", id.sceneHash},
+            {"settings", id.settings},
+            {"width", s.width},
+            {"height", s.height},
+            {"spp", s.sppBound},
+            {"samples_reached", s.samplesReached()},
+            {"rays", s.rays},
+            {"bad_samples", s.badSamples},
+            {"samples", s.samples},
+            {"seconds", s.seconds}};
+}
+
+}  // namespace
+
+static_assert(sizeof(Color) == 3 * sizeof(double), "Color is three packed doubles");
+
+std::string sceneFingerprint(const Scene& scene, const std::string& spec) {
+    Hasher h;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(spec, ec)) {
+        std::ifstream in(spec, std::ios::binary);
+        std::vector<char> buffer(1 << 20);
+        while (in) {
+            in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+            h.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
+        }
+    } else {
+        h.add(spec.data(), spec.size());
+    }
+    const std::string description = describeScene(scene, spec);
+    h.add(description.data(), description.size());
+    return hex(h.value());
+}
+
+void writeCheckpoint(const std::string& path, const RenderIdentity& identity, const RenderState& state) {
+    writeDurably(path, [&](const std::string& tmp) {
+        std::ofstream out(tmp, std::ios::binary);
+        Hasher h;
+        const auto put = [&](const void* data, std::size_t n) {
+            out.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
+            h.add(data, n);
+        };
+        const std::string header = headerOf(identity, state).dump() + "\n";
+        put(kMagic, sizeof kMagic - 1);
+        put(header.data(), header.size());
+        forEachSection(state, put);
+        const std::uint64_t checksum = h.value();
+        out.write(reinterpret_cast<const char*>(&checksum), sizeof checksum);
+        out.close();
+        if (!out) throw std::runtime_error("write failed (disk full?)");
+    });
+}
+
+void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderState& state) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(fmt::format("{}: cannot open the checkpoint", path));
+    const auto damaged = [&](const std::string& why) {
+        return InputError(fmt::format("{}: not a usable checkpoint ({}); delete it to start the render again", path, why));
+    };
+    Hasher h;
+    std::string magic(sizeof kMagic - 1, '\0');
+    in.read(magic.data(), static_cast<std::streamsize>(magic.size()));
+    if (!in || magic != kMagic) throw damaged("it does not start with \"symphong checkpoint 1\"");
+    h.add(magic.data(), magic.size());
+    std::string line;
+    if (!std::getline(in, line)) throw damaged("no header");
+    line += "\n";
+    h.add(line.data(), line.size());
+    nlohmann::json header;
+    try {
+        header = nlohmann::json::parse(line);
+        identity = {header.at("scene").get<std::string>(), header.at("scene_hash").get<std::string>(), header.at("settings")};
+        const int w = header.at("width").get<int>(), ht = header.at("height").get<int>();
+        const auto spp = header.at("spp").get<std::uint32_t>();
+        if (w < 1 || ht < 1 || static_cast<long>(w) * ht > kMaxImagePixels || spp < 1)
+            throw damaged("its image size or spp is out of range");
+        requireImageMemory(w, ht);
+        state = RenderState(w, ht, spp);
+        state.rays = header.at("rays").get<std::uint64_t>();
+        state.badSamples = header.at("bad_samples").get<std::uint64_t>();
+        state.samples = header.at("samples").get<std::uint64_t>();
+        state.seconds = header.at("seconds").get<double>();
+    } catch (const nlohmann::json::exception& e) {
+        throw damaged(fmt::format("its header: {}", e.what()));
+    }
+    std::uint64_t expected = 0;
+    forEachSection(state, [&](void*, std::size_t n) { expected += n; });
+    const auto start = static_cast<std::uint64_t>(in.tellg());
+    std::error_code ec;
+    const std::uint64_t size = std::filesystem::file_size(path, ec);
+    if (ec || size != start + expected + sizeof(std::uint64_t))
+        throw damaged(fmt::format("{} bytes where its header needs {}: truncated or overwritten", size, start + expected + 8));
+    forEachSection(state, [&](void* data, std::size_t n) {
+        in.read(static_cast<char*>(data), static_cast<std::streamsize>(n));
+        h.add(data, n);
+    });
+    std::uint64_t checksum = 0;
+    in.read(reinterpret_cast<char*>(&checksum), sizeof checksum);
+    if (!in || checksum != h.value()) throw damaged("its checksum does not match its contents");
+    for (std::uint32_t n : state.tileSamples)
+        if (n > state.sppBound) throw damaged("a tile has more samples than the render's spp");
+}
+
+void requireSameRender(const std::string& path, const RenderIdentity& saved, const RenderIdentity& now) {
+    if (saved.sceneHash != now.sceneHash)
+        throw InputError(
+            fmt::format("{}: the checkpoint is of another scene ({}, fingerprint {}), not of {} (fingerprint {}) as it is "
+                        "now; render the same scene, or delete the checkpoint to start again",
+                        path, saved.scene, saved.sceneHash, now.scene, now.sceneHash));
+    const auto text = [](const nlohmann::json& j, const std::string& key) { return j.contains(key) ? j.at(key).dump() : "(not set)"; };
+    for (const auto& source : {now.settings, saved.settings})
+        for (auto it = source.begin(); it != source.end(); ++it)
+            if (text(saved.settings, it.key()) != text(now.settings, it.key()))
+                throw InputError(
+                    fmt::format("{}: the checkpoint was made with {} {}, not {}: resume with the same settings, or delete it to "
+                                "start again",
+                                path, it.key(), text(saved.settings, it.key()), text(now.settings, it.key())));
+}
+
+}  // namespace symphong

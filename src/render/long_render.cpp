@@ -1,0 +1,81 @@
+#include "render/long_render.h"
+
+#include "io/files.h"
+#include "io/input_error.h"
+#include "render/progress.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace symphong {
+
+namespace {
+
+/// The state to start from: the checkpoint's when resuming from one, else an empty one.
+RenderState startingState(const RenderOptions& o, const std::string& path, const RenderIdentity& identity,
+                          const std::function<void(const std::string&)>& say) {
+    RenderState state(o.width, o.height, o.spp);
+    if (path.empty()) return state;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        if (o.resume) say(fmt::format("no checkpoint at {} yet: starting from the beginning", path));
+        checkCanCreate(path);
+        return state;
+    }
+    if (!o.resume)
+        throw InputError(
+            fmt::format("{}: a checkpoint is already there: add --resume to continue from it, or delete it to start again", path));
+    RenderIdentity saved;
+    readCheckpoint(path, saved, state);
+    requireSameRender(path, saved, identity);
+    say(fmt::format("resuming from {}: {} of {} spp, {} rendered", path, state.samplesReached(), state.sppBound,
+                    ProgressBar::formatDuration(state.seconds)));
+    return state;
+}
+
+}  // namespace
+
+std::uint64_t samplesIn(const RenderState& s) {
+    std::uint64_t n = 0;
+    for (int t = 0; t < static_cast<int>(s.tileSamples.size()); ++t) {
+        int x0, y0, x1, y1;
+        tileRect(t, s.width, s.height, x0, y0, x1, y1);
+        n += static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0) * s.tileSamples[static_cast<std::size_t>(t)];
+    }
+    return n;
+}
+
+LongRender renderLong(const RenderOptions& o, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                      const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
+                      const std::function<void(const RenderState&)>& onCheckpoint, const std::function<void(const std::string&)>& say) {
+    const StopRules rules = stopRules(o);
+    const RenderIdentity identity{o.scene, sceneFingerprint(scene, o.scene), schema::pixelSettingsJson(o, renderSchema())};
+    LongRender run;
+    run.state = startingState(o, checkpoint, identity, say);
+    run.secondsBefore = run.state.seconds;
+    run.raysBefore = run.state.rays;
+    if (progress) progress->store(samplesIn(run.state));
+    RenderSettings settings = renderSettings(o);
+    settings.cancel = cancel;
+    CheckpointSchedule schedule(o.checkpointInterval, run.state.seconds);
+    bool saved = false;
+    const auto save = [&] {
+        writeCheckpoint(checkpoint, identity, run.state);
+        schedule.written(run.state.seconds);
+        if (onCheckpoint) onCheckpoint(run.state);
+        saved = true;
+    };
+    run.why = renderProgressive(
+        scene, accel, estimator, settings, rules, run.state,
+        [&](const PassReport& r) {
+            saved = false;
+            if (!checkpoint.empty() && schedule.due(r.seconds, r.nextPassSeconds, r.last)) save();
+        },
+        progress);
+    if (!saved && !checkpoint.empty()) save();  // a render that needed no pass (finished, or its error reached)
+    run.error = worstRelativeError(run.state, rules.regions);
+    return run;
+}
+
+}  // namespace symphong

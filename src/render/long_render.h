@@ -1,0 +1,38 @@
+// render/long_render.h — a render in passes with its checkpoint, as `symphong render` and the Python
+// module's render() run it when a stop rule, a pass size or a checkpoint is asked for: the starting state
+// (the checkpoint's when resuming, after checking that it is this render's), the passes
+// (render/progressive.h) and a checkpoint whenever the schedule says so, at the end and when cancelled.
+#pragma once
+
+#include "accel/accel.h"
+#include "render/checkpoint.h"
+#include "render/progressive.h"
+#include "render/settings.h"
+
+#include <atomic>
+#include <functional>
+#include <string>
+
+namespace symphong {
+
+struct LongRender {
+    RenderState state;
+    StopReason why = StopReason::Spp;
+    double error = 0;          ///< relative standard error of the mean (worst region) at the end
+    double secondsBefore = 0;  ///< render time already in the checkpoint it resumed from
+    std::uint64_t raysBefore = 0;
+};
+
+/// Runs the render of `o` in passes. `checkpoint`: the file to resume from (with o.resume) and to write
+/// ("" for none; an existing one without o.resume is an InputError). `onCheckpoint` is called after each
+/// checkpoint is written (the command line writes its preview image there); `say` receives the messages
+/// for the user (resuming, starting afresh). `cancel` stops it after the tiles in flight (then a
+/// checkpoint is written too).
+LongRender renderLong(const RenderOptions& o, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                      const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
+                      const std::function<void(const RenderState&)>& onCheckpoint, const std::function<void(const std::string&)>& say);
+
+/// Samples already in a state (where a progress bar starts).
+std::uint64_t samplesIn(const RenderState& s);
+
+}  // namespace symphong

@@ -1,0 +1,167 @@
+#!/usr/bin/env bash
+# The promises of `symphong render` in passes (render/progressive.h, render/checkpoint.h), run by CTest
+# (tests/CMakeLists.txt) as
+#   checkpoint_checks.sh CHECK BINARY
+# Every comparison is byte for byte against the EXR of an uninterrupted one-pass render of the same
+# settings. Checks:
+#   passes        pass sizes 1, 5 and automatic, with every sampler and a spread-mode estimator
+#   kill          kill -9 at pseudo-random moments (a fixed sequence), --resume after each, until the
+#                 render ends by itself (at least 10 kills, at most 25)
+#   kill-writing  kill -9 while a checkpoint is being written (as soon as its temporary file appears),
+#                 five times, --resume after each
+#   sigterm       SIGTERM (what Slurm sends before it kills) and SIGINT: exit 143 / 130 with a checkpoint
+#                 and a preview image, then --resume
+#   refused       a checkpoint of other settings, of another scene, damaged or truncated: exit 2, one
+#                 error naming the file and what differs, the checkpoint left as it was; an existing
+#                 checkpoint without --resume; --resume with no checkpoint starts afresh and says so;
+#                 a finished checkpoint gives its image at once
+#   stop-rules    --time stops with "time limit" and fewer samples than --spp; --target-error stops with
+#                 "target error"
+set -euo pipefail
+check=$1 bin=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+cd "$work"
+base=(render cornell -W 80 -H 60 -t 2)
+
+# reference NAME ARGS...: the uninterrupted one-pass render, as NAME.
+reference() {
+  local name=$1
+  shift
+  "$bin" "${base[@]}" "$@" -o "$name" >/dev/null
+}
+
+case $check in
+passes)
+  for sampler in independent stratified sobol; do
+    reference ref.exr --spp 24 --sampler "$sampler"
+    for pass in 1 5 0; do
+      "$bin" "${base[@]}" --spp 24 --sampler "$sampler" --pass-spp "$pass" --time 1e6 -o p.exr >out
+      grep -q "24 of 24 spp (all)" out || fail "summary: $(cat out)"
+      cmp ref.exr p.exr || fail "sampler $sampler, passes of $pass spp: the EXR differs from one pass"
+    done
+  done
+  reference ref.exr --spp 24 -e symmetric --symmetric-mode spread
+  "$bin" "${base[@]}" --spp 24 -e symmetric --symmetric-mode spread --pass-spp 7 -o p.exr >/dev/null
+  cmp ref.exr p.exr || fail "symmetric spread mode in passes of 7: the EXR differs from one pass"
+  ;;
+kill)
+  reference ref.exr --spp 512
+  RANDOM=20261202
+  for attempt in $(seq 1 25); do
+    "$bin" "${base[@]}" --spp 512 --pass-spp 2 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err &
+    pid=$!
+    sleep "0.$(printf '%03d' $((20 + RANDOM % 300)))"
+    kill -9 "$pid" 2>/dev/null || true
+    rc=0
+    wait "$pid" 2>/dev/null || rc=$?
+    [ "$rc" -eq 0 ] && break
+    [ "$rc" -eq 137 ] || fail "attempt $attempt: exit code $rc: $(cat err)"
+  done
+  [ "$attempt" -ge 10 ] || fail "the render finished after $attempt attempts: too few kills to test anything"
+  "$bin" "${base[@]}" --spp 512 --pass-spp 2 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err ||
+    fail "the last resume failed: $(cat err)"
+  cmp ref.exr out.exr || fail "killed $attempt times and resumed: the EXR differs from the uninterrupted one"
+  ;;
+kill-writing)
+  # A large image, so that writing its checkpoint takes a while; killed the moment the temporary file of
+  # a checkpoint appears (the rename has not happened yet).
+  big=(render cornell -W 400 -H 300 -t 2 --spp 6)
+  "$bin" "${big[@]}" -o ref.exr >/dev/null
+  hits=0
+  for attempt in $(seq 1 5); do
+    "$bin" "${big[@]}" --pass-spp 1 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err &
+    pid=$!
+    tmp=".c.ckpt.tmp-$pid"
+    for _ in $(seq 1 20000); do
+      [ -e "$tmp" ] && break
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.001
+    done
+    [ -e "$tmp" ] && hits=$((hits + 1))
+    kill -9 "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+  done
+  [ "$hits" -ge 3 ] || fail "only $hits of 5 kills came while a checkpoint was being written"
+  "$bin" "${big[@]}" --pass-spp 1 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err ||
+    fail "resuming after kills in the middle of writing failed: $(cat err)"
+  cmp ref.exr out.exr || fail "killed while writing checkpoints and resumed: the EXR differs"
+  ;;
+sigterm)
+  reference ref.exr --spp 400
+  for signal in TERM INT; do
+    rm -f c.ckpt out.exr
+    "$bin" "${base[@]}" --spp 400 --pass-spp 4 --checkpoint c.ckpt --checkpoint-interval 0.2 -o out.exr >out 2>err &
+    pid=$!
+    # The first checkpoint means the render is under way (its signal handlers installed).
+    for _ in $(seq 1 3000); do
+      [ -e c.ckpt ] && break
+      sleep 0.01
+    done
+    [ -e c.ckpt ] || fail "SIG$signal: no checkpoint after 30 s"
+    kill -s "$signal" "$pid"
+    rc=0
+    wait "$pid" || rc=$?
+    expected=$([ "$signal" = TERM ] && echo 143 || echo 130)
+    [ "$rc" -eq "$expected" ] || fail "SIG$signal: exit code $rc, expected $expected: $(cat err)"
+    grep -q "interrupted by SIG$signal" out || fail "SIG$signal: summary: $(cat out)"
+    grep -q -- "--resume continues from c.ckpt" err || fail "SIG$signal: stderr: $(cat err)"
+    [ -s c.ckpt ] && [ -s out.exr ] || fail "SIG$signal: no checkpoint or no preview image"
+    "$bin" "${base[@]}" --spp 400 --pass-spp 4 --checkpoint c.ckpt --resume -o out.exr >out 2>err || fail "resume: $(cat err)"
+    grep -q "resuming from c.ckpt" err || fail "resume did not say so: $(cat err)"
+    cmp ref.exr out.exr || fail "SIG$signal and resumed: the EXR differs"
+  done
+  ;;
+refused)
+  reference ref.exr --spp 16
+  "$bin" "${base[@]}" --spp 16 --pass-spp 4 --checkpoint c.ckpt -o out.exr >/dev/null
+  cp c.ckpt saved.ckpt
+  # expect_refused PATTERN ARGS...: exit 2, one error on stderr matching PATTERN.
+  expect_refused() {
+    local pattern=$1 rc=0
+    shift
+    "$bin" "$@" >out 2>err || rc=$?
+    [ "$rc" -eq 2 ] || fail "exit code $rc, expected 2 ($*): $(cat err)"
+    [ "$(grep -c 'error:' err)" -eq 1 ] || fail "expected one error on stderr, got: $(cat err)"
+    grep -q -- "$pattern" err || fail "message: $(cat err), expected /$pattern/"
+  }
+  expect_refused "c.ckpt: the checkpoint was made with seed 1, not 4" "${base[@]}" --seed 4 --spp 16 --checkpoint c.ckpt --resume -o o.exr
+  expect_refused "c.ckpt: the checkpoint was made with spp 16, not 32" "${base[@]}" --spp 32 --checkpoint c.ckpt --resume -o o.exr
+  expect_refused "c.ckpt: the checkpoint was made with estimator \"phong\", not \"cosine\"" \
+    "${base[@]}" --spp 16 -e cosine --checkpoint c.ckpt --resume -o o.exr
+  printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >tri.obj
+  expect_refused "c.ckpt: the checkpoint is of another scene (cornell" \
+    render tri.obj -W 80 -H 60 -t 2 --spp 16 --checkpoint c.ckpt --resume -o o.exr
+  expect_refused "c.ckpt: a checkpoint is already there: add --resume" "${base[@]}" --spp 16 --checkpoint c.ckpt -o o.exr
+  cmp c.ckpt saved.ckpt || fail "a refused resume changed the checkpoint"
+  [ ! -e o.exr ] || fail "a refused resume wrote an image"
+  # Damaged: one byte of the sums flipped; truncated; not a checkpoint at all.
+  cp saved.ckpt d.ckpt
+  printf '\x55' | dd of=d.ckpt bs=1 seek=$(($(stat -c %s d.ckpt) - 100)) conv=notrunc 2>/dev/null
+  expect_refused "d.ckpt: not a usable checkpoint (its checksum does not match" "${base[@]}" --spp 16 --checkpoint d.ckpt --resume -o o.exr
+  head -c 5000 saved.ckpt >t.ckpt
+  expect_refused "t.ckpt: not a usable checkpoint (.*truncated" "${base[@]}" --spp 16 --checkpoint t.ckpt --resume -o o.exr
+  echo hello >n.ckpt
+  expect_refused "n.ckpt: not a usable checkpoint (it does not start with" "${base[@]}" --spp 16 --checkpoint n.ckpt --resume -o o.exr
+  # A finished checkpoint: its image at once, the same bytes.
+  "$bin" "${base[@]}" --spp 16 --checkpoint c.ckpt --resume -o again.exr >out 2>err
+  cmp ref.exr again.exr || fail "the image of a finished checkpoint differs"
+  grep -q "(0.00 s in this run)" out || fail "a finished checkpoint rendered again: $(cat out)"
+  # --resume with no checkpoint yet: from the beginning, said on stderr; the default path is beside the output.
+  "$bin" "${base[@]}" --spp 16 --resume -o fresh.exr >out 2>err
+  grep -q "no checkpoint at fresh.exr.ckpt yet: starting from the beginning" err || fail "stderr: $(cat err)"
+  [ -s fresh.exr.ckpt ] || fail "no checkpoint beside the output"
+  cmp ref.exr fresh.exr || fail "a fresh --resume render differs"
+  ;;
+stop-rules)
+  "$bin" "${base[@]}" --spp 1000000 --time 1 -o t.exr >out
+  grep -q "spp (time limit 1 s)" out || fail "summary: $(cat out)"
+  "$bin" "${base[@]}" --spp 100000 --target-error 0.01 -o e.exr >out
+  grep -q "spp (target error 1% reached)" out || fail "summary: $(cat out)"
+  ;;
+*)
+  fail "unknown check $check"
+  ;;
+esac
+echo "ok: $check"
