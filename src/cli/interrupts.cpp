@@ -42,7 +42,11 @@ LauncherStopGuard::LauncherStopGuard(const MpiJob& job, LauncherStop what) {
     gInterrupted = false;
     gInterruptSignal = 0;
     if (what == LauncherStop::StopRender) {
-        install(SIGINT, onInterrupt), install(SIGTERM, onInterrupt);
+        if (shared && !job.root()) {  // the other ranks follow rank 0
+            install(SIGINT, SIG_IGN), install(SIGTERM, SIG_IGN);
+        } else {
+            install(SIGINT, onInterrupt), install(SIGTERM, onInterrupt);
+        }
     } else if (what == LauncherStop::EndRender) {
         if (!shared || !job.root()) return;
         gRendering = true;

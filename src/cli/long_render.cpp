@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/interrupts.h"
 #include "distrib/mpi_job.h"
+#include "distrib/render.h"
 #include "estimators/estimator.h"
 #include "io/files.h"
 #include "io/image.h"
@@ -45,21 +46,43 @@ std::string stopText(StopReason why, const RenderOptions& o) {
 }  // namespace
 
 int renderInPasses(const RenderOptions& o, const Scene& scene, const Estimator& estimator, const std::string& output, const MpiJob& job) {
-    if (job.size() > 1)
-        throw InputError(
-            "--time, --target-error, --pass-spp, --checkpoint and --resume work in one process only for now (docs/cluster.md)");
-    stopRules(o);  // its input errors before the acceleration structure is built
     const std::string path = checkpointPath(o, output);
-    const Accel accel(scene);
-    std::atomic<std::uint64_t> done{0};
+    // Rank 0 starts the render (reads the checkpoint); every rank learns whether that worked.
     LongRender run;
+    std::string error;
+    try {
+        if (job.root())
+            run = startLongRender(o, scene, path, [](const std::string& message) { fmt::print(stderr, "symphong: {}\n", message); });
+        else
+            stopRules(o);
+    } catch (const InputError& e) {
+        if (!job.active()) throw;
+        error = e.what();
+    }
+    error = job.firstError(error);
+    if (!error.empty()) throw InputError(error);
+    const Accel accel(scene);
+    RenderSettings settings = renderSettings(o);
+    settings.cancel = &gInterrupted;
+    const LauncherStopGuard guard(job, LauncherStop::StopRender);
+    if (!job.root()) {
+        followPasses(job, scene, accel, estimator, settings);
+        return 0;
+    }
+    std::atomic<std::uint64_t> done{0};
     {
-        const LauncherStopGuard guard(job, LauncherStop::StopRender);
         ProgressBar bar(done, static_cast<std::uint64_t>(o.width) * o.height * o.spp, "samples", stderrIsTerminal());
-        run = renderLong(
-            o, scene, accel, estimator, path, &gInterrupted, &done,
-            [&](const RenderState& state) { writeImage(state.image(), output, o.exposure, o.exrHalf); },  // the preview
-            [](const std::string& message) { fmt::print(stderr, "symphong: {}\n", message); });
+        try {
+            continueLongRender(
+                run, o, scene, accel, estimator, path, &gInterrupted, &done,
+                [&](const RenderState& state) { writeImage(state.image(), output, o.exposure, o.exrHalf); },  // the preview
+                leadPasses(job, scene, accel, estimator, settings, &done));
+        } catch (const InputError& e) {  // a checkpoint or preview that cannot be written: the others wait for rank 0
+            if (job.size() == 1) throw;
+            fmt::print(stderr, "symphong: error: {}\n", e.what());
+            job.abort(kBadInput);
+        }
+        endPasses(job);
         bar.finish();
     }
     const RenderState& state = run.state;
@@ -67,9 +90,10 @@ int renderInPasses(const RenderOptions& o, const Scene& scene, const Estimator& 
     if (state.badSamples > 0) fmt::print(stderr, "symphong: warning: {} non-finite path contributions were discarded\n", state.badSamples);
     const double runSeconds = std::max(state.seconds - run.secondsBefore, 1e-9);
     fmt::print(
-        "{}: {}x{}, {} of {} spp ({}), relative error of the mean {:.3g}%, estimator {}, sampler {}: {:.2f} s{}, {:.2f} Mrays/s{} -> {}\n",
+        "{}: {}x{}, {} of {} spp ({}), relative error of the mean {:.3g}%, estimator {}, sampler {}{}: {:.2f} s{}, {:.2f} Mrays/s{} -> "
+        "{}\n",
         scene.name, o.width, o.height, state.samplesReached(), o.spp, stopText(run.why, o), 100 * run.error, estimator.name(),
-        effectiveSampler(estimator, o.sampler), state.seconds,
+        effectiveSampler(estimator, o.sampler), job.size() > 1 ? fmt::format(", {} ranks", job.size()) : "", state.seconds,
         run.secondsBefore > 0 ? fmt::format(" ({:.2f} s in this run)", state.seconds - run.secondsBefore) : "",
         static_cast<double>(state.rays - run.raysBefore) / runSeconds / 1e6, path.empty() ? "" : ", checkpoint " + path, output);
     if (run.why != StopReason::Cancelled) return 0;

@@ -13,10 +13,65 @@ namespace symphong {
 
 namespace {
 
-constexpr int kTagRequest = 101;  ///< rank -> 0: "give me tiles" (payload: how many it can use)
-constexpr int kTagGrant = 102;    ///< 0 -> rank: {first tile, count}; count 0: no more tiles
-constexpr int kTagTiles = 103;    ///< rank -> 0: the numbers of the tiles it rendered
-constexpr int kTagPixels = 104;   ///< rank -> 0: their pixels, image then variance, tile by tile
+constexpr int kTagRequest = 101;     ///< rank -> 0: "give me tiles" (payload: how many it can use)
+constexpr int kTagGrant = 102;       ///< 0 -> rank: {first tile, count}; count 0: no more tiles
+constexpr int kTagTiles = 103;       ///< rank -> 0: the numbers of the tiles it rendered
+constexpr int kTagPixels = 104;      ///< rank -> 0: their state (packTiles), after their sample counts
+constexpr int kTagGrantState = 105;  ///< 0 -> rank: the granted tiles' state (packTiles), after the grant
+
+/// Doubles a pixel takes in a message: its sum, sum of squares (3 each) and sum of squared luminance.
+constexpr std::size_t kPixelDoubles = 7;
+
+/// The state of `tiles` as one message: their sample counts (as doubles, exact below 2^53), then, for
+/// each tile with samples, its pixels' sums row by row. Tiles without samples send no pixels.
+std::vector<double> packTiles(const RenderState& s, const int* tiles, int count) {
+    std::vector<double> out;
+    for (int i = 0; i < count; ++i) out.push_back(s.tileSamples[static_cast<std::size_t>(tiles[i])]);
+    for (int i = 0; i < count; ++i) {
+        if (s.tileSamples[static_cast<std::size_t>(tiles[i])] == 0) continue;
+        int x0, y0, x1, y1;
+        tileRect(tiles[i], s.width, s.height, x0, y0, x1, y1);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x);
+                out.insert(out.end(), {s.sum[p].x, s.sum[p].y, s.sum[p].z, s.sumSq[p].x, s.sumSq[p].y, s.sumSq[p].z, s.sumLuminanceSq[p]});
+            }
+    }
+    return out;
+}
+
+/// The inverse of packTiles: the tiles' counts and sums into `s` (pixels of tiles without samples zeroed).
+void unpackTiles(RenderState& s, const int* tiles, int count, const std::vector<double>& in) {
+    std::size_t k = static_cast<std::size_t>(count);
+    for (int i = 0; i < count; ++i) {
+        const auto n = static_cast<std::uint32_t>(in[static_cast<std::size_t>(i)]);
+        s.tileSamples[static_cast<std::size_t>(tiles[i])] = n;
+        int x0, y0, x1, y1;
+        tileRect(tiles[i], s.width, s.height, x0, y0, x1, y1);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x);
+                if (n == 0) {
+                    s.sum[p] = s.sumSq[p] = Color(0.0), s.sumLuminanceSq[p] = 0;
+                    continue;
+                }
+                s.sum[p] = Color(in[k], in[k + 1], in[k + 2]), s.sumSq[p] = Color(in[k + 3], in[k + 4], in[k + 5]);
+                s.sumLuminanceSq[p] = in[k + 6];
+                k += kPixelDoubles;
+            }
+    }
+}
+
+/// A message of doubles from `from` with `tag`, whatever its length.
+std::vector<double> receiveDoubles(int from, int tag) {
+    MPI_Status status;
+    MPI_Probe(from, tag, MPI_COMM_WORLD, &status);
+    int n = 0;
+    MPI_Get_count(&status, MPI_DOUBLE, &n);
+    std::vector<double> data(static_cast<std::size_t>(n));
+    MPI_Recv(data.data(), n, MPI_DOUBLE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return data;
+}
 
 /// Rank 0's shared counter: its own threads draw from it directly, the dispatcher for the others.
 class CounterSource : public TileSource {
@@ -45,11 +100,11 @@ private:
     std::atomic<int> next_{0};
 };
 
-/// The other ranks' source: asks rank 0 for two tiles per thread at a time, hands them out one by one,
-/// and records which tiles it rendered.
+/// The other ranks' source: asks rank 0 for two tiles per thread at a time (with their state so far,
+/// unpacked into this rank's state), hands them out one by one, and records which tiles it rendered.
 class RemoteSource : public TileSource {
 public:
-    explicit RemoteSource(int threads) : want_(2 * std::max(1, threads)) {}
+    RemoteSource(int threads, RenderState& state) : want_(2 * std::max(1, threads)), state_(state) {}
     bool next(int& tile) override {
         std::lock_guard lock(mutex_);
         if (cursor_ == end_) {
@@ -61,6 +116,9 @@ public:
                 dry_ = true;
                 return false;
             }
+            std::vector<int> tiles(static_cast<std::size_t>(grant[1]));
+            for (int i = 0; i < grant[1]; ++i) tiles[static_cast<std::size_t>(i)] = grant[0] + i;
+            unpackTiles(state_, tiles.data(), grant[1], receiveDoubles(0, kTagGrantState));
             cursor_ = grant[0], end_ = grant[0] + grant[1];
         }
         tile = cursor_++;
@@ -71,21 +129,25 @@ public:
 
 private:
     int want_;
+    RenderState& state_;
     std::mutex mutex_;
     int cursor_ = 0, end_ = 0;
     bool dry_ = false;
     std::vector<int> rendered_;
 };
 
-std::uint64_t tileSamples(int tile, const RenderSettings& s) {
+/// The samples tile `tile` takes to reach `upTo`.
+std::uint64_t tileWork(int tile, const RenderState& s, std::uint32_t upTo) {
     int x0, y0, x1, y1;
     tileRect(tile, s.width, s.height, x0, y0, x1, y1);
-    return static_cast<std::uint64_t>(x1 - x0) * (y1 - y0) * s.spp;
+    const std::uint32_t has = std::min(upTo, s.tileSamples[static_cast<std::size_t>(tile)]);
+    return static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0) * (upTo - has);
 }
 
 /// Rank 0's dispatcher: answers the other ranks' requests for tiles until every one of them has been told
 /// that none are left, counting the samples of finished grants into `progress`.
-void dispatchTiles(const MpiJob& job, CounterSource& counter, const RenderSettings& settings, std::atomic<std::uint64_t>* progress) {
+void dispatchTiles(const MpiJob& job, CounterSource& counter, const RenderState& state, std::uint32_t upTo,
+                   std::atomic<std::uint64_t>* progress) {
     std::vector<std::uint64_t> pending(static_cast<std::size_t>(job.size()), 0);  // samples granted, not yet known done
     int open = job.size() - 1;
     while (open > 0) {
@@ -110,29 +172,29 @@ void dispatchTiles(const MpiJob& job, CounterSource& counter, const RenderSettin
         // holds no one back at the finish.
         int grant[2];
         counter.take(std::max({1, want, counter.remaining() / (2 * job.size())}), grant[0], grant[1]);
-        for (int t = grant[0]; t < grant[0] + grant[1]; ++t) pending[static_cast<std::size_t>(from)] += tileSamples(t, settings);
+        for (int t = grant[0]; t < grant[0] + grant[1]; ++t) pending[static_cast<std::size_t>(from)] += tileWork(t, state, upTo);
         MPI_Send(grant, 2, MPI_INT, from, kTagGrant, MPI_COMM_WORLD);
-        if (grant[1] == 0) --open;
+        if (grant[1] == 0) {
+            --open;
+            continue;
+        }
+        // The granted tiles' state: rank 0's threads never take these tiles, so reading it here is safe.
+        std::vector<int> tiles(static_cast<std::size_t>(grant[1]));
+        for (int i = 0; i < grant[1]; ++i) tiles[static_cast<std::size_t>(i)] = grant[0] + i;
+        const std::vector<double> packed = packTiles(state, tiles.data(), grant[1]);
+        MPI_Send(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, from, kTagGrantState, MPI_COMM_WORLD);
     }
 }
 
-/// Another rank's tiles to rank 0: their numbers, then image and variance pixels as doubles.
-void sendTiles(const std::vector<int>& tiles, const RenderResult& result, const RenderSettings& settings) {
-    std::vector<double> pixels;
-    for (int tile : tiles) {
-        int x0, y0, x1, y1;
-        tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
-        for (const Image* img : {&result.image, &result.variance})
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x)
-                    for (int c = 0; c < 3; ++c) pixels.push_back(img->at(x, y)[c]);
-    }
+/// Another rank's tiles to rank 0: their numbers, then their state (packTiles).
+void sendTiles(const std::vector<int>& tiles, const RenderState& state) {
+    const std::vector<double> packed = packTiles(state, tiles.data(), static_cast<int>(tiles.size()));
     MPI_Send(tiles.data(), static_cast<int>(tiles.size()), MPI_INT, 0, kTagTiles, MPI_COMM_WORLD);
-    MPI_Send(pixels.data(), static_cast<int>(pixels.size()), MPI_DOUBLE, 0, kTagPixels, MPI_COMM_WORLD);
+    MPI_Send(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, 0, kTagPixels, MPI_COMM_WORLD);
 }
 
-/// On rank 0: every other rank's tiles into the result; the number of tiles each rendered.
-void gatherTiles(const MpiJob& job, RenderResult& result, const RenderSettings& settings, std::vector<int>& tilesPerRank) {
+/// On rank 0: every other rank's tiles into the state; the number of tiles each rendered.
+void gatherTiles(const MpiJob& job, RenderState& state, std::vector<int>& tilesPerRank) {
     for (int r = 1; r < job.size(); ++r) {
         MPI_Status status;
         MPI_Probe(r, kTagTiles, MPI_COMM_WORLD, &status);
@@ -140,74 +202,98 @@ void gatherTiles(const MpiJob& job, RenderResult& result, const RenderSettings& 
         MPI_Get_count(&status, MPI_INT, &n);
         std::vector<int> tiles(static_cast<std::size_t>(n));
         MPI_Recv(tiles.data(), n, MPI_INT, r, kTagTiles, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        MPI_Probe(r, kTagPixels, MPI_COMM_WORLD, &status);
-        int m = 0;
-        MPI_Get_count(&status, MPI_DOUBLE, &m);
-        std::vector<double> pixels(static_cast<std::size_t>(m));
-        MPI_Recv(pixels.data(), m, MPI_DOUBLE, r, kTagPixels, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        std::size_t k = 0;
-        for (int tile : tiles) {
-            int x0, y0, x1, y1;
-            tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
-            for (Image* img : {&result.image, &result.variance})
-                for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x)
-                        for (int c = 0; c < 3; ++c) img->at(x, y)[c] = pixels[k++];
-        }
+        unpackTiles(state, tiles.data(), n, receiveDoubles(r, kTagPixels));
         tilesPerRank[static_cast<std::size_t>(r)] = n;
     }
 }
 
 }  // namespace
 
-RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
-                               const RenderSettings& settings, std::atomic<std::uint64_t>* progress, DistributedStats* distributed) {
-    if (!job.active() || job.size() == 1) return render(scene, accel, estimator, settings, progress);
+void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                              const RenderSettings& settings, RenderState& state, std::uint32_t upTo, std::atomic<std::uint64_t>* progress,
+                              DistributedStats* distributed) {
+    if (!job.active() || job.size() == 1) return renderSamples(scene, accel, estimator, settings, state, upTo, progress);
     const auto start = std::chrono::steady_clock::now();
     const int total = tileCount(settings.width, settings.height);
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
-    RenderResult result;
+    const double secondsBefore = state.seconds;
+    const std::uint64_t before[3] = {state.rays, state.badSamples, state.samples};
     RenderSettings local = settings;
     // Only rank 0 acts on a cancellation (it stops handing out tiles); a rank that skipped its tiles on its
-    // own would leave holes in an image that is not marked cancelled.
+    // own would leave holes that rank 0 does not know about.
     if (!job.root()) local.cancel = nullptr;
     std::vector<int> tilesPerRank(static_cast<std::size_t>(job.size()), 0);
     double gatherSeconds = 0;
     if (job.root()) {
         CounterSource counter(total, settings.cancel);
         local.tiles = &counter;
-        std::thread dispatcher([&] { dispatchTiles(job, counter, settings, progress); });
-        result = render(scene, accel, estimator, local, progress);
+        std::thread dispatcher([&] { dispatchTiles(job, counter, state, upTo, progress); });
+        renderSamples(scene, accel, estimator, local, state, upTo, progress);
         dispatcher.join();
         const auto gatherStart = std::chrono::steady_clock::now();
-        gatherTiles(job, result, settings, tilesPerRank);
+        gatherTiles(job, state, tilesPerRank);
         gatherSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - gatherStart).count();
     } else {
-        RemoteSource remote(threads);
+        RemoteSource remote(threads, state);
         local.tiles = &remote;
         // Every worker loop ends on next() returning false, which only happens once rank 0 has said
         // that no tiles are left: the dispatcher has heard from this rank for the last time.
-        result = render(scene, accel, estimator, local, nullptr);
-        sendTiles(remote.rendered(), result, settings);
+        renderSamples(scene, accel, estimator, local, state, upTo, nullptr);
+        sendTiles(remote.rendered(), state);
     }
+    // The whole job's counts on rank 0 (each rank's own additions summed); its time from the start of
+    // the pass to the last pixel gathered.
+    std::uint64_t mine[3] = {state.rays - before[0], state.badSamples - before[1], state.samples - before[2]}, sums[3] = {0, 0, 0};
+    MPI_Reduce(mine, sums, 3, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    if (!job.root()) return;
+    state.rays = before[0] + sums[0], state.badSamples = before[1] + sums[1], state.samples = before[2] + sums[2];
+    state.seconds = secondsBefore + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (distributed) {
+        int own = total;
+        for (int r = 1; r < job.size(); ++r) own -= tilesPerRank[static_cast<std::size_t>(r)];
+        tilesPerRank[0] = own;
+        distributed->gatherSeconds = gatherSeconds;
+        distributed->tilesPerRank = tilesPerRank;
+    }
+}
 
-    // The whole job's counts on rank 0; a cancelled rank 0 marks every rank's result cancelled.
-    std::uint64_t mine[2] = {result.stats.rays, result.stats.badSamples}, sums[2] = {0, 0};
-    MPI_Reduce(mine, sums, 2, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
-    int cancelled = result.cancelled ? 1 : 0;
+PassRunner leadPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                      std::atomic<std::uint64_t>* progress) {
+    return [&job, &scene, &accel, &estimator, settings, progress](RenderState& state, std::uint32_t upTo) {
+        if (job.active() && job.size() > 1) {
+            std::uint32_t pass = upTo;
+            MPI_Bcast(&pass, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
+        }
+        renderSamplesDistributed(job, scene, accel, estimator, settings, state, upTo, progress);
+    };
+}
+
+void endPasses(const MpiJob& job) {
+    if (!job.active() || job.size() == 1) return;
+    std::uint32_t none = 0;
+    MPI_Bcast(&none, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
+}
+
+void followPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings) {
+    RenderState scratch(settings.width, settings.height, settings.spp);
+    for (;;) {
+        std::uint32_t upTo = 0;
+        MPI_Bcast(&upTo, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
+        if (upTo == 0) return;
+        renderSamplesDistributed(job, scene, accel, estimator, settings, scratch, upTo);
+    }
+}
+
+RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                               const RenderSettings& settings, std::atomic<std::uint64_t>* progress, DistributedStats* distributed) {
+    if (!job.active() || job.size() == 1) return render(scene, accel, estimator, settings, progress);
+    RenderState state(settings.width, settings.height, settings.spp);
+    renderSamplesDistributed(job, scene, accel, estimator, settings, state, settings.spp, progress, distributed);
+    RenderResult result = resultOf(state, effectiveSampler(estimator, settings.sampler));
+    // A cancelled rank 0 marks every rank's result cancelled.
+    int cancelled = settings.cancel && settings.cancel->load() ? 1 : 0;
     MPI_Bcast(&cancelled, 1, MPI_INT, 0, MPI_COMM_WORLD);
     result.cancelled = cancelled != 0;
-    if (job.root()) {
-        result.stats.rays = sums[0], result.stats.badSamples = sums[1];
-        result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (distributed) {
-            int own = total;
-            for (int r = 1; r < job.size(); ++r) own -= tilesPerRank[static_cast<std::size_t>(r)];
-            tilesPerRank[0] = own;
-            distributed->gatherSeconds = gatherSeconds;
-            distributed->tilesPerRank = tilesPerRank;
-        }
-    }
     return result;
 }
 

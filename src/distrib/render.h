@@ -7,6 +7,7 @@
 #pragma once
 
 #include "distrib/mpi_job.h"
+#include "render/progressive.h"
 #include "render/renderer.h"
 
 namespace symphong {
@@ -15,6 +16,24 @@ struct DistributedStats {
     double gatherSeconds = 0;       ///< rank 0: receiving and placing the other ranks' tiles
     std::vector<int> tilesPerRank;  ///< rank 0: how many tiles each rank rendered
 };
+
+/// Collective over the job's ranks: takes every tile of `state` to `upTo` samples (renderSamples in a job
+/// of one rank). Rank 0 holds the whole state: it hands each granted tile's sums out with the tile, and
+/// the rank that renders it sends them back, so a pixel's samples are added in order wherever they are
+/// taken and the state is bit for bit the single-process one. On the other ranks `state` is scratch (of
+/// the image's size). Rank 0's state gains the whole job's rays, samples and the pass's wall time.
+void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                              const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
+                              std::atomic<std::uint64_t>* progress = nullptr, DistributedStats* distributed = nullptr);
+
+/// Passes (render/progressive.h) shared by the job: rank 0 renders them with the runner of leadPasses,
+/// which first tells the other ranks each pass's sample count, and calls endPasses when they are over;
+/// the other ranks call followPasses, which renders every pass with rank 0 until told to stop. The state
+/// lives on rank 0 alone, so a job resumed from a checkpoint may have any number of ranks.
+PassRunner leadPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                      std::atomic<std::uint64_t>* progress);
+void endPasses(const MpiJob& job);
+void followPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings);
 
 /// Collective over the job's ranks (a plain render() in a job of one rank). On rank 0 the result is the
 /// whole image, its variance and the whole job's statistics (rays summed over ranks; seconds from the

@@ -46,22 +46,28 @@ std::uint64_t samplesIn(const RenderState& s) {
     return n;
 }
 
-LongRender renderLong(const RenderOptions& o, const Scene& scene, const Accel& accel, const Estimator& estimator,
-                      const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
-                      const std::function<void(const RenderState&)>& onCheckpoint, const std::function<void(const std::string&)>& say) {
-    const StopRules rules = stopRules(o);
-    const RenderIdentity identity{o.scene, sceneFingerprint(scene, o.scene), schema::pixelSettingsJson(o, renderSchema())};
+LongRender startLongRender(const RenderOptions& o, const Scene& scene, const std::string& checkpoint,
+                           const std::function<void(const std::string&)>& say) {
+    stopRules(o);  // its input errors first
     LongRender run;
-    run.state = startingState(o, checkpoint, identity, say);
+    run.identity = {o.scene, sceneFingerprint(scene, o.scene), schema::pixelSettingsJson(o, renderSchema())};
+    run.state = startingState(o, checkpoint, run.identity, say);
     run.secondsBefore = run.state.seconds;
     run.raysBefore = run.state.rays;
+    return run;
+}
+
+void continueLongRender(LongRender& run, const RenderOptions& o, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                        const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
+                        const std::function<void(const RenderState&)>& onCheckpoint, const PassRunner& runPass) {
+    const StopRules rules = stopRules(o);
     if (progress) progress->store(samplesIn(run.state));
     RenderSettings settings = renderSettings(o);
     settings.cancel = cancel;
     CheckpointSchedule schedule(o.checkpointInterval, run.state.seconds);
     bool saved = false;
     const auto save = [&] {
-        writeCheckpoint(checkpoint, identity, run.state);
+        writeCheckpoint(checkpoint, run.identity, run.state);
         schedule.written(run.state.seconds);
         if (onCheckpoint) onCheckpoint(run.state);
         saved = true;
@@ -72,9 +78,16 @@ LongRender renderLong(const RenderOptions& o, const Scene& scene, const Accel& a
             saved = false;
             if (!checkpoint.empty() && schedule.due(r.seconds, r.nextPassSeconds, r.last)) save();
         },
-        progress);
+        progress, runPass);
     if (!saved && !checkpoint.empty()) save();  // a render that needed no pass (finished, or its error reached)
     run.error = worstRelativeError(run.state, rules.regions);
+}
+
+LongRender renderLong(const RenderOptions& o, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                      const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
+                      const std::function<void(const RenderState&)>& onCheckpoint, const std::function<void(const std::string&)>& say) {
+    LongRender run = startLongRender(o, scene, checkpoint, say);
+    continueLongRender(run, o, scene, accel, estimator, checkpoint, cancel, progress, onCheckpoint);
     return run;
 }
 

@@ -16,6 +16,7 @@
 namespace symphong {
 
 struct LongRender {
+    RenderIdentity identity;
     RenderState state;
     StopReason why = StopReason::Spp;
     double error = 0;          ///< relative standard error of the mean (worst region) at the end
@@ -23,11 +24,22 @@ struct LongRender {
     std::uint64_t raysBefore = 0;
 };
 
-/// Runs the render of `o` in passes. `checkpoint`: the file to resume from (with o.resume) and to write
-/// ("" for none; an existing one without o.resume is an InputError). `onCheckpoint` is called after each
-/// checkpoint is written (the command line writes its preview image there); `say` receives the messages
-/// for the user (resuming, starting afresh). `cancel` stops it after the tiles in flight (then a
-/// checkpoint is written too).
+/// The start of a render in passes: its state (the checkpoint's when `checkpoint` exists and o.resume,
+/// after checking that it is this render's; an existing one without o.resume is an InputError), its
+/// identity and the time and rays already in it. `say` receives the messages for the user (resuming,
+/// starting afresh).
+LongRender startLongRender(const RenderOptions& o, const Scene& scene, const std::string& checkpoint,
+                           const std::function<void(const std::string&)>& say);
+
+/// Runs the passes of a started render until a rule stops it, writing the checkpoint (when `checkpoint`
+/// is not empty) whenever the schedule says so, at the end and when cancelled; `onCheckpoint` is called
+/// after each (the command line writes its preview image there). `cancel` stops it after the tiles in
+/// flight. `runPass` renders a pass (default: this process alone).
+void continueLongRender(LongRender& run, const RenderOptions& o, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                        const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
+                        const std::function<void(const RenderState&)>& onCheckpoint, const PassRunner& runPass = nullptr);
+
+/// startLongRender, then continueLongRender in this process.
 LongRender renderLong(const RenderOptions& o, const Scene& scene, const Accel& accel, const Estimator& estimator,
                       const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
                       const std::function<void(const RenderState&)>& onCheckpoint, const std::function<void(const std::string&)>& say);

@@ -65,7 +65,7 @@ std::uint32_t nextPassSize(const StopRules& rules, const RenderState& state, dou
 
 StopReason renderProgressive(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                              const StopRules& rules, RenderState& state, const std::function<void(const PassReport&)>& afterPass,
-                             std::atomic<std::uint64_t>* progress) {
+                             std::atomic<std::uint64_t>* progress, const PassRunner& runPass) {
     double error = worstRelativeError(state, rules.regions);
     StopReason why = StopReason::Spp;
     if (stopsNow(rules, state, settings, error, why)) return why;
@@ -73,7 +73,10 @@ StopReason renderProgressive(const Scene& scene, const Accel& accel, const Estim
     for (;;) {
         const std::uint32_t from = state.samplesReached(), upTo = std::min(state.sppBound, from + pass);
         const double before = state.seconds;
-        renderSamples(scene, accel, estimator, settings, state, upTo, progress);
+        if (runPass)
+            runPass(state, upTo);
+        else
+            renderSamples(scene, accel, estimator, settings, state, upTo, progress);
         const double secondsPerSpp = (state.seconds - before) / std::max<std::uint32_t>(1, upTo - from);
         error = worstRelativeError(state, rules.regions);
         PassReport report;

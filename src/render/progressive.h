@@ -39,11 +39,15 @@ struct PassReport {
 /// The largest relative standard error of the mean over `regions` (the whole image when empty).
 double worstRelativeError(const RenderState& state, const std::vector<PixelRect>& regions);
 
+/// What renders one pass: takes every tile of the state to `upTo` samples (renderSamples, or a render
+/// shared with other processes, distrib/render.h).
+using PassRunner = std::function<void(RenderState& state, std::uint32_t upTo)>;
+
 /// Renders passes into `state` until a rule stops it (the spp bound is state.sppBound). A state that is
 /// already finished returns at once (reason Spp). `afterPass` is called after every pass, the last
-/// included, on the calling thread.
+/// included, on the calling thread. `runPass` renders each pass (default: renderSamples in this process).
 StopReason renderProgressive(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                              const StopRules& rules, RenderState& state, const std::function<void(const PassReport&)>& afterPass,
-                             std::atomic<std::uint64_t>* progress = nullptr);
+                             std::atomic<std::uint64_t>* progress = nullptr, const PassRunner& runPass = nullptr);
 
 }  // namespace symphong

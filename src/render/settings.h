@@ -42,7 +42,7 @@ struct RenderOptions {
     std::vector<int> targetRegions;  ///< x, y, width, height of each region, flattened
     std::uint32_t passSpp = 0;
     std::string checkpoint;
-    double checkpointInterval = 60;
+    double checkpointInterval = 120;
     bool resume = false;
 
     /// Whether the render goes in passes: a stop rule, a pass size or a checkpoint was asked for.

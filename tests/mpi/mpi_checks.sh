@@ -11,6 +11,11 @@
 #   study-interrupt        SIGINT to mpiexec during a study under 2 ranks: whole groups of rows kept,
 #                          the report marked interrupted, rank 0 says so
 #   rank-dies              rank 1 killed during a render: non-zero exit, rank 0 says so, no file
+#   passes NP              passes of 3 spp under NP ranks: the single-process EXR byte for byte
+#   resume NP1 NP2         NP1 ranks stopped by --time with a checkpoint, resumed with NP2 ranks (1: without
+#                          mpiexec): the single-process EXR byte for byte
+#   resume-sigterm         SIGTERM to mpiexec during a render of 2 ranks with a checkpoint: rank 0 writes it,
+#                          3 ranks resume it to the single-process EXR
 set -euo pipefail
 check=$1 bin=$2 mpiexec=$3
 shift 3
@@ -107,6 +112,48 @@ rank-dies)
   [ "$rc" -ne 0 ] || fail "exit code 0 after a rank died"
   grep -qxF "symphong: the MPI launcher is stopping the job (Ctrl-C, or a rank ended)" "$work/err" || fail "rank 0's message: $(cat "$work/err")"
   [ ! -e "$work/x.png" ] || fail "an output file was created"
+  ;;
+passes)
+  np=$1 passes=(render cornell --spp 20 -W 70 -H 45 --seed 5 -t 1)
+  "$bin" "${passes[@]}" -o "$work/single.exr" >/dev/null
+  "${launch[@]}" -np "$np" "$bin" "${passes[@]}" --pass-spp 3 -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
+    fail "mpiexec -np $np failed: $(cat "$work/err")"
+  grep -q "20 of 20 spp (all).*$np ranks" "$work/out" || fail "summary: $(cat "$work/out")"
+  cmp "$work/single.exr" "$work/mpi.exr" || fail "$np ranks in passes: the EXR differs from the single-process one"
+  ;;
+resume)
+  first=$1 second=$2
+  long=(render cornell --spp 400 -W 64 -H 48 --seed 5 -t 1 --pass-spp 2 --checkpoint "$work/c.ckpt")
+  "$bin" "${long[@]}" -o "$work/single.exr" >/dev/null
+  rm -f "$work/c.ckpt"
+  "${launch[@]}" -np "$first" "$bin" "${long[@]}" --time 0.5 -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
+    fail "the first run failed: $(cat "$work/err")"
+  grep -q "spp (time limit" "$work/out" || fail "the first run was not stopped by --time: $(cat "$work/out")"
+  if [ "$second" -eq 1 ]; then
+    "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" || fail "resume failed: $(cat "$work/err")"
+  else
+    "${launch[@]}" -np "$second" "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
+      fail "resume failed: $(cat "$work/err")"
+  fi
+  grep -q "resuming from" "$work/err" || fail "the second run did not resume: $(cat "$work/err")"
+  cmp "$work/single.exr" "$work/mpi.exr" || fail "$first ranks, then $second: the EXR differs from the single-process one"
+  ;;
+resume-sigterm)
+  long=(render cornell --spp 800 -W 64 -H 48 --seed 5 -t 1 --pass-spp 4 --checkpoint "$work/c.ckpt" --checkpoint-interval 0.3)
+  "$bin" "${long[@]}" -o "$work/single.exr" >/dev/null
+  rm -f "$work/c.ckpt"
+  "${launch[@]}" -np 2 "$bin" "${long[@]}" -o "$work/mpi.exr" >"$work/out" 2>"$work/err" &
+  pid=$!
+  for _ in $(seq 1 3000); do
+    [ -e "$work/c.ckpt" ] && break
+    sleep 0.01
+  done
+  [ -e "$work/c.ckpt" ] || fail "no checkpoint after 30 s"
+  kill -TERM "$pid"
+  wait "$pid" || true
+  grep -q "interrupted by SIGTERM" "$work/out" || fail "rank 0 did not stop on SIGTERM: $(cat "$work/out") $(cat "$work/err")"
+  "${launch[@]}" -np 3 "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" || fail "resume failed: $(cat "$work/err")"
+  cmp "$work/single.exr" "$work/mpi.exr" || fail "stopped by SIGTERM under 2 ranks, resumed under 3: the EXR differs"
   ;;
 *) fail "unknown check $check" ;;
 esac
