@@ -14,6 +14,8 @@
 #   passes NP              passes of 3 spp under NP ranks: the single-process EXR byte for byte
 #   resume NP1 NP2         NP1 ranks stopped by --time with a checkpoint, resumed with NP2 ranks (1: without
 #                          mpiexec): the single-process EXR byte for byte
+#   resume-kill            kill -9 of a 2-rank job (mpiexec and its ranks, one process group) at four
+#                          pseudo-random moments, resumed with 3 ranks after each: the single-process EXR
 #   resume-sigterm         SIGTERM to mpiexec during a render of 2 ranks with a checkpoint: rank 0 writes it,
 #                          3 ranks resume it to the single-process EXR
 set -euo pipefail
@@ -137,6 +139,30 @@ resume)
   fi
   grep -q "resuming from" "$work/err" || fail "the second run did not resume: $(cat "$work/err")"
   cmp "$work/single.exr" "$work/mpi.exr" || fail "$first ranks, then $second: the EXR differs from the single-process one"
+  ;;
+resume-kill)
+  long=(render cornell --spp 600 -W 64 -H 48 --seed 5 -t 1 --pass-spp 2 --checkpoint "$work/c.ckpt" --checkpoint-interval 0.02)
+  "$bin" "${long[@]}" -o "$work/single.exr" >/dev/null
+  rm -f "$work/c.ckpt"
+  RANDOM=4242
+  for attempt in 1 2 3 4; do
+    np=$((attempt % 2 + 2))
+    setsid "${launch[@]}" -np "$np" "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" &
+    pid=$!
+    sleep "0.$(printf '%03d' $((300 + RANDOM % 600)))"
+    kill -9 -- "-$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+    # No rank of the killed job may live on (it would write the checkpoint under the next one).
+    for _ in $(seq 1 100); do
+      kill -0 -- "-$pid" 2>/dev/null || break
+      sleep 0.05
+    done
+    ! kill -0 -- "-$pid" 2>/dev/null || fail "processes of the killed job are still running"
+  done
+  [ -e "$work/c.ckpt" ] || fail "no checkpoint was written before the kills"
+  "${launch[@]}" -np 3 "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" || fail "resume failed: $(cat "$work/err")"
+  grep -q "resuming from" "$work/err" || fail "the last run did not resume: $(cat "$work/err")"
+  cmp "$work/single.exr" "$work/mpi.exr" || fail "killed under 2 and 3 ranks, resumed under 3: the EXR differs"
   ;;
 resume-sigterm)
   long=(render cornell --spp 800 -W 64 -H 48 --seed 5 -t 1 --pass-spp 4 --checkpoint "$work/c.ckpt" --checkpoint-interval 0.3)
