@@ -379,6 +379,54 @@ TEST(Study, CancellingKeepsTheFinishedRows) {
     fs::remove_all(dir);
 }
 
+// --resume: a study cancelled in its second group keeps the first; run again with --resume it keeps that
+// group (not rendered again) and renders the rest, and every row equals an uninterrupted study's, the
+// times aside. Resuming with another seed is refused, naming it.
+TEST(Study, ResumeKeepsTheFinishedGroupsAndEndsWithAnUninterruptedStudysRows) {
+    const fs::path whole = freshDir("resume-whole"), parts = freshDir("resume-parts");
+    StudyConfig c = tinyConfig(whole);
+    c.estimators = {"cosine", "phong"};
+    c.spps = {1, 2, 4};
+    c.referenceSpp = 32;
+    const StudyOutcome expected = runStudy(c);
+    c.outDir = parts.string();
+    std::atomic<bool> cancel{false};
+    setStudyRowObserver([&](std::size_t rows) {
+        if (rows == 3) cancel = true;
+    });
+    ASSERT_TRUE(runStudy(c, &cancel).cancelled);
+    setStudyRowObserver(nullptr);
+    c.resume = true;
+    std::size_t rendered = 0;
+    setStudyRowObserver([&](std::size_t) { ++rendered; });
+    const StudyOutcome resumed = runStudy(c);
+    setStudyRowObserver(nullptr);
+    EXPECT_FALSE(resumed.cancelled);
+    EXPECT_EQ(resumed.keptRows, 2);
+    EXPECT_EQ(rendered, expected.rows.size() - 2) << "the kept group is not rendered again";
+    ASSERT_EQ(resumed.rows.size(), expected.rows.size());
+    for (std::size_t i = 0; i < expected.rows.size(); ++i) {
+        const StudyRow &a = expected.rows[i], &b = resumed.rows[i];
+        EXPECT_EQ(a.variant, b.variant) << i;
+        EXPECT_EQ(a.spp, b.spp) << i;
+        EXPECT_EQ(a.repeat, b.repeat) << i;
+        EXPECT_EQ(a.meanLuminance, b.meanLuminance) << i;
+        EXPECT_EQ(a.mse, b.mse) << i;
+        EXPECT_EQ(a.relMse, b.relMse) << i;
+        EXPECT_EQ(a.groupRelativeBias, b.groupRelativeBias) << i;
+        EXPECT_EQ(a.groupPixelVariance, b.groupPixelVariance) << i;
+    }
+    c.seed = 2;
+    try {
+        runStudy(c);
+        ADD_FAILURE() << "a resume with another seed was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("the earlier study had seed 1, not 2"), std::string::npos) << e.what();
+    }
+    fs::remove_all(whole);
+    fs::remove_all(parts);
+}
+
 TEST(Study, BadConfigurationsAreInputErrors) {
     const fs::path dir = freshDir("bad");
     StudyConfig c = tinyConfig(dir);

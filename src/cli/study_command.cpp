@@ -21,7 +21,9 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
         "writes into DIR: results.csv and results.json (one row per estimator x spp x repeat), convergence plots against\n"
         "samples and time with the 1/sqrt(N) slope, an efficiency bar chart (PNG and SVG), per-pixel error heat maps,\n"
         "crops of the renders, and report.md with a conclusion computed from the numbers. Ctrl-C stops cleanly and keeps\n"
-        "the finished rows. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.\n"
+        "the finished rows; --resume continues an interrupted study in DIR (its finished rows kept, its reference resumed\n"
+        "from DIR/reference.ckpt, written every two minutes). --reference-error stops the reference at a relative error of\n"
+        "its mean instead of at --reference-spp. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.\n"
         "Under 'mpirun -np N' the N processes share each render; rank 0 writes the same rows (times aside) and the report\n"
         "(docs/cluster.md).\n");
     addSchemaOptions(s, o, studySchema());
@@ -36,10 +38,12 @@ int runStudyCommand(StudyOptions& o, const MpiJob& job) {
     }
     if (!job.root()) return outcome.cancelled ? 130 : 0;
     if (outcome.cancelled) {
-        fmt::print(stderr, "symphong: interrupted; {} finished row(s) kept in {}/results.csv\n", outcome.rows.size(), o.config.outDir);
+        fmt::print(stderr, "symphong: interrupted; {} finished row(s) kept in {}/results.csv (--resume continues)\n", outcome.rows.size(),
+                   o.config.outDir);
         return 130;
     }
-    fmt::print("{}\n\nreport: {}/report.md ({} rows)\n", outcome.conclusion, o.config.outDir, outcome.rows.size());
+    fmt::print("{}\n\nreport: {}/report.md ({} rows{})\n", outcome.conclusion, o.config.outDir, outcome.rows.size(),
+               outcome.keptRows > 0 ? fmt::format(", {} kept from the earlier run", outcome.keptRows) : "");
     if (o.config.plots && !outcome.plotted) {
         fmt::print(stderr, "symphong: error: the plots could not be made (needs python3 with matplotlib)\n");
         return 1;

@@ -32,6 +32,18 @@ public:
     }
     bool writer() const override { return job_.root(); }
     int processes() const override { return job_.size(); }
+    StopReason renderPasses(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                            const StopRules& rules, RenderState& state, const std::function<void(const PassReport&)>& afterPass,
+                            std::atomic<std::uint64_t>* progress) const override {
+        if (!job_.root()) {
+            followPasses(job_, scene, accel, estimator, settings);
+            return StopReason::Spp;  // rank 0 knows; the study asks it (writersValue)
+        }
+        const StopReason why = renderProgressive(scene, accel, estimator, settings, rules, state, afterPass, progress,
+                                                 leadPasses(job_, scene, accel, estimator, settings, progress));
+        endPasses(job_);
+        return why;
+    }
     bool errorAgreed() const { return agreed_; }
 
 private:

@@ -62,13 +62,18 @@ const schema::Schema<StudyOptions>& studySchema() {
         s.push_back(F("reference_spp", "--reference-spp", "samples per pixel of the rendered reference",
                       ref<O>([](O & o) -> auto& { return o.config.referenceSpp; }))
                         .range(1, 10000000));
+        s.push_back(F("reference_error", "--reference-error",
+                      "stop the rendered reference once the relative standard error of its mean is at most this (e.g. 0.001), "
+                      "with --reference-spp as the upper bound; 0: exactly --reference-spp",
+                      ref<O>([](O & o) -> auto& { return o.config.referenceError; }))
+                        .range(0, 1));
         s.push_back(F("reference_estimator", "--reference-estimator", "unbiased estimator for the reference",
                       ref<O>([](O & o) -> auto& { return o.config.referenceEstimator; })));
         s.push_back(F("reference_sampler", "--reference-sampler", "sampler of the reference (independent: its own noise is known)",
                       ref<O>([](O & o) -> auto& { return o.config.referenceSampler; }))
                         .namedFrom(samplerNames)
                         .checkedBy(checkSamplerName));
-        s.push_back(F("out", "--out,-o", "output directory", ref<O>([](O & o) -> auto& { return o.config.outDir; })));
+        s.push_back(F("out", "--out,-o", "output directory", ref<O>([](O & o) -> auto& { return o.config.outDir; })).keepsPixels());
         s.push_back(F("width", "--width,-W", "image width", ref<O>([](O & o) -> auto& { return o.config.width; })).range(1, 4096));
         s.push_back(F("height", "--height,-H", "image height", ref<O>([](O & o) -> auto& { return o.config.height; })).range(1, 4096));
         s.push_back(
@@ -76,7 +81,8 @@ const schema::Schema<StudyOptions>& studySchema() {
                 .range(0, 1024));
         s.push_back(F("seed", "--seed", "random seed", ref<O>([](O & o) -> auto& { return o.config.seed; })));
         s.push_back(F("threads", "--threads,-t", "worker threads, 0 = all cores", ref<O>([](O & o) -> auto& { return o.config.threads; }))
-                        .range(0, 4096));
+                        .range(0, 4096)
+                        .keepsPixels());
         s.push_back(F("heatmap_spp", "--heatmap-spp", "spp of the heat maps and crops (default: the middle --spp value)",
                       ref<O>([](O & o) -> auto& { return o.config.heatmapSpp; }))
                         .range(0, 1000000)
@@ -84,8 +90,14 @@ const schema::Schema<StudyOptions>& studySchema() {
         s.push_back(F("python", "--python", "python3 with matplotlib for the plots (default: /usr/bin/python3, then python3)",
                       ref<O>([](O & o) -> auto& { return o.config.python; }))
                         .noDefaultShown()
-                        .orNone());
-        s.push_back(F("no_plots", "--no-plots", "skip the plots", schema::member(&O::noPlots)).python("plots", true));
+                        .orNone()
+                        .keepsPixels());
+        s.push_back(F("no_plots", "--no-plots", "skip the plots", schema::member(&O::noPlots)).python("plots", true).keepsPixels());
+        s.push_back(F("resume", "--resume",
+                      "continue the study in --out: keep the finished groups of rows of its results.json and resume its reference "
+                      "from reference.ckpt (refused when they are of other settings)",
+                      ref<O>([](O & o) -> auto& { return o.config.resume; }))
+                        .keepsPixels());
         // The estimators' parameters, but not --symmetric-mode: each mode is a variant of its own (--symmetric-modes).
         for (auto& f : schema::nested(schema::nested(estimatorOptionsSchema(), &StudyConfig::options, {"symmetric_mode"}), &O::config))
             s.push_back(std::move(f));
@@ -192,6 +204,8 @@ StudyOptions studyOptionsOf(const StudyConfig& c) {
 }
 
 nlohmann::json studySettingsJson(const StudyConfig& c) { return schema::toJson(studyOptionsOf(c), studySchema()); }
+
+nlohmann::json studyResultSettingsJson(const StudyConfig& c) { return schema::pixelSettingsJson(studyOptionsOf(c), studySchema()); }
 
 FurnaceTable toFurnaceTable(const FurnaceOptions& o, bool validateNames) {
     FurnaceTable t = o.table;

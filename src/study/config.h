@@ -49,6 +49,9 @@ StudyOptions studyOptionsOf(const StudyConfig& c);
 /// The configuration's settings as JSON through studySchema() (results.json's "settings": fromJson of
 /// it into StudyOptions and toStudyConfig give the configuration back).
 nlohmann::json studySettingsJson(const StudyConfig& c);
+/// The settings that can change the study's rows (all but threads, --out, the plots and --resume): what
+/// a resumed study must share with the results it keeps.
+nlohmann::json studyResultSettingsJson(const StudyConfig& c);
 
 /// The furnace's table: the lists parsed, --grid's exponents and angles.
 FurnaceTable toFurnaceTable(const FurnaceOptions& o, bool validateNames);

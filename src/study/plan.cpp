@@ -103,7 +103,8 @@ nlohmann::json referenceKey(const StudyConfig& c) {
             {"max_depth", c.maxDepth},
             {"seed", c.seed},
             {"symmetric_n", c.options.symmetricN},
-            {"version", 1}};
+            {"error", c.referenceError},
+            {"version", 2}};
 }
 
 EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v) {

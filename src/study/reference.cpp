@@ -38,15 +38,17 @@ Reference existingReference(const StudyConfig& c, const fs::path& dir, const nlo
     return ref;
 }
 
-Reference referenceFromRender(const StudyConfig& c, const RenderResult& r) {
+Reference referenceFromRender(const StudyConfig& c, const RenderResult& r, std::uint32_t spp) {
     Reference ref;
     ref.image = r.image;
     for (Color& p : ref.image.pixels)
         for (int ch = 0; ch < 3; ++ch) p[ch] = static_cast<float>(p[ch]);
     ref.mean = meanLuminance(ref.image, &r.variance);
     for (const Color& v : r.variance.pixels) ref.noise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
-    ref.note = fmt::format("Reference: `{}` at {} spp ({:.1f} s), cached in reference.exr.", c.referenceEstimator, c.referenceSpp,
-                           r.stats.seconds);
+    ref.note = fmt::format(
+        "Reference: `{}` at {} spp{} ({:.1f} s), cached in reference.exr.", c.referenceEstimator, spp,
+        c.referenceError > 0 ? fmt::format(" (stopped at a relative error of its mean of {:.3g}%)", 100 * c.referenceError) : "",
+        r.stats.seconds);
     ref.have = true;
     return ref;
 }

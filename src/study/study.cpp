@@ -7,6 +7,8 @@
 #include "accel/accel.h"
 #include "io/files.h"
 #include "io/input_error.h"
+#include "render/checkpoint.h"
+#include "render/long_render.h"
 #include "render/progress.h"
 #include "scene/scene.h"
 #include "study/config.h"
@@ -32,6 +34,12 @@ void setStudyRowObserver(std::function<void(std::size_t rows)> observer) { rowOb
 RenderResult StudyRuntime::render(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                                   std::atomic<std::uint64_t>* progress) const {
     return symphong::render(scene, accel, estimator, settings, progress);
+}
+
+StopReason StudyRuntime::renderPasses(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                                      const StopRules& rules, RenderState& state, const std::function<void(const PassReport&)>& afterPass,
+                                      std::atomic<std::uint64_t>* progress) const {
+    return renderProgressive(scene, accel, estimator, settings, rules, state, afterPass, progress);
 }
 
 namespace {
@@ -183,6 +191,9 @@ private:
     std::unique_ptr<Accel> accel_;
     nlohmann::json refKey_;
     Reference ref_;
+    RenderIdentity refIdentity_;         ///< what the reference's checkpoint must match
+    RenderState refState_;               ///< the reference so far (from its checkpoint when resuming)
+    KeptGroups kept_;                    ///< --resume: the finished groups of rows of the earlier run
     std::optional<StudyWriter> writer_;  ///< only in the writing process
     std::map<std::string, double> cost_;
     StudyProgress progress_;
@@ -203,9 +214,14 @@ void StudyRun::prepare() {
         refKey_ = referenceKey(c_);
         if (rt_.writer()) {
             for (const std::string& w : scene_.warnings) fmt::print(stderr, "symphong: warning: {}\n", w);
+            if (c_.resume)
+                kept_ = keptGroups(c_, fs::path(c_.outDir), [](const std::string& m) { fmt::print(stderr, "symphong: {}\n", m); });
             writer_.emplace(c_, scene_.name, heatSpp_, variants_, rt_.processes());
             writer_->prepare();
             ref_ = existingReference(c_, writer_->dir(), refKey_);
+            refIdentity_ = {c_.scene, sceneFingerprint(scene_, c_.scene), refKey_};
+            refState_ = RenderState(c_.width, c_.height, c_.referenceSpp);
+            if (!ref_.have && c_.resume) resumeReference(writer_->dir() / "reference.ckpt", refIdentity_, refState_);
         }
     } catch (const InputError& e) {
         failure = std::current_exception();
@@ -256,7 +272,9 @@ double StudyRun::plannedWork() {
     return total + refCost * c_.referenceSpp * c_.width * c_.height;
 }
 
-// The reference, unless it was given or cached; false when cancelled.
+// The reference, unless it was given or cached: rendered in passes up to --reference-spp or until
+// --reference-error, with a checkpoint in the output directory (resumed with --resume); false when
+// cancelled.
 bool StudyRun::renderReference() {
     const double refWork = progress_.currentCost * c_.referenceSpp * c_.width * c_.height;
     if (!ref_.have) {
@@ -265,12 +283,27 @@ bool StudyRun::renderReference() {
         rs.seed = mixSeed(c_.seed, 0xFEFE);
         rs.sampler = c_.referenceSampler;
         const auto est = makeEstimator(c_.referenceEstimator, c_.options);
-        const RenderResult r = rt_.render(scene_, *accel_, *est, rs, &progress_.samples);
-        if (r.cancelled) return false;
+        StopRules rules;
+        rules.targetError = c_.referenceError;
+        const std::string checkpoint = writer_ ? (writer_->dir() / "reference.ckpt").string() : std::string();
+        CheckpointSchedule schedule(kStudyCheckpointInterval, refState_.seconds);
+        if (!writer_) refState_ = RenderState(c_.width, c_.height, c_.referenceSpp);
+        progress_.samples = samplesIn(refState_);
+        const StopReason why = rt_.renderPasses(
+            scene_, *accel_, *est, rs, rules, refState_,
+            [&](const PassReport& r) {
+                if (!schedule.due(r.seconds, r.nextPassSeconds, r.last)) return;
+                writeCheckpoint(checkpoint, refIdentity_, refState_);
+                schedule.written(r.seconds);
+            },
+            &progress_.samples);
+        if (rt_.writersValue(why == StopReason::Cancelled)) return false;
         outcome_.referenceRendered = true;
         if (writer_) {
-            ref_ = referenceFromRender(c_, r);
-            writeReferenceCache(ref_, refKey_, r.stats.seconds, writer_->dir());
+            ref_ = referenceFromRender(c_, resultOf(refState_, rs.sampler), refState_.samplesReached());
+            writeReferenceCache(ref_, refKey_, refState_.seconds, writer_->dir());
+            std::error_code ec;
+            fs::remove(checkpoint, ec);  // the cache holds the finished reference
         }
     }
     progress_.finished(refWork);
@@ -281,6 +314,15 @@ bool StudyRun::renderReference() {
 bool StudyRun::runGroup(std::uint32_t spp, std::size_t ei) {
     const StudyVariant& variant = variants_[ei];
     const std::string& name = variant.label;
+    if (rt_.writersValue(kept_.count({spp, name}) > 0)) {  // --resume: this group was finished before
+        rowIndex_ += c_.repeats;
+        progress_.finished(cost_[name] * spp * c_.width * c_.height * c_.repeats);
+        if (!writer_) return true;
+        for (const StudyRow& row : kept_.at({spp, name})) outcome_.rows.push_back(row);
+        outcome_.keptRows += c_.repeats;
+        writer_->writeResults(outcome_, ref_);
+        return true;
+    }
     const auto est = makeEstimator(variant.estimator, variantOptions(c_, variant));
     std::vector<Image> images;
     std::vector<MeanWithError> means;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "estimators/estimator.h"
+#include "render/progressive.h"
 #include "render/renderer.h"
 
 #include <atomic>
@@ -36,14 +37,18 @@ struct StudyConfig {
     int maxDepth = 16;
     std::uint64_t seed = 1;
     int threads = 0;
-    std::string referencePath;  ///< a given reference EXR; empty: render (and cache) one
-    std::uint32_t referenceSpp = 2048;
+    std::string referencePath;          ///< a given reference EXR; empty: render (and cache) one
+    std::uint32_t referenceSpp = 2048;  ///< with referenceError, the upper bound
+    double referenceError = 0;          ///< > 0: the reference stops at this relative error of its mean
     std::string referenceEstimator = "phong";
     std::string referenceSampler = "independent";  ///< independent: the reference's own noise is then known
     std::string outDir = "out/study";
     std::uint32_t heatmapSpp = 0;  ///< spp of the heat maps and crops; 0: the middle of `spps`
     EstimatorOptions options;
     bool plots = true;
+    /// Continue the study in outDir: keep the finished groups of rows of its results.json and resume
+    /// its reference from reference.ckpt (both only when they are of this study's settings).
+    bool resume = false;
     std::string python;  ///< interpreter for the plots; empty: /usr/bin/python3, then python3
 };
 
@@ -118,6 +123,7 @@ struct StudyOutcome {
     bool cancelled = false;
     bool plotted = false;
     bool referenceRendered = false;  ///< false when the reference was given or taken from the cache
+    int keptRows = 0;                ///< --resume: rows kept from the earlier run
     std::string conclusion;
 };
 
@@ -142,6 +148,12 @@ public:
     /// Collective: the writer's value, on every process.
     virtual bool writersValue(bool value) const { return value; }
     virtual bool writer() const { return true; }
+    /// The reference in passes (render/progressive.h) until `rules` stop it; collective when shared: the
+    /// writer runs the passes and `afterPass` (its checkpoints) and returns why they stopped, the others
+    /// render each pass with it (their `state` is scratch).
+    virtual StopReason renderPasses(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                                    const StopRules& rules, RenderState& state, const std::function<void(const PassReport&)>& afterPass,
+                                    std::atomic<std::uint64_t>* progress) const;
     virtual int processes() const { return 1; }
 };
 

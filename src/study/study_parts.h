@@ -5,6 +5,7 @@
 #pragma once
 
 #include "io/image.h"
+#include "render/checkpoint.h"
 #include "study/metrics.h"
 #include "study/study.h"
 
@@ -12,7 +13,9 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace symphong {
@@ -42,12 +45,32 @@ struct Reference {
 /// `have` false when there is none (a damaged cache counts as none).
 Reference existingReference(const StudyConfig& c, const std::filesystem::path& dir, const nlohmann::json& key);
 
-/// The reference from a render of it: its image rounded to 32-bit float as the cache stores it (so a
-/// study gives the same numbers whether its reference was rendered or read back), mean and noise.
-Reference referenceFromRender(const StudyConfig& c, const RenderResult& r);
+/// The reference from a render of it (`spp`: the samples it reached): its image rounded to 32-bit float as
+/// the cache stores it (so a study gives the same numbers whether its reference was rendered or read
+/// back), mean and noise.
+Reference referenceFromRender(const StudyConfig& c, const RenderResult& r, std::uint32_t spp);
 
 /// Writes reference.exr and reference.json (the cache) into dir.
 void writeReferenceCache(const Reference& ref, const nlohmann::json& key, double seconds, const std::filesystem::path& dir);
+
+// ---- resume.cpp
+
+/// Seconds of render time between checkpoints of the study's reference.
+inline constexpr double kStudyCheckpointInterval = 120;
+
+/// The finished groups of rows of an earlier run of the study, by (spp, variant label).
+using KeptGroups = std::map<std::pair<std::uint32_t, std::string>, std::vector<StudyRow>>;
+
+/// The finished groups (all `repeats` rows) of dir/results.json; none when there is no such file (said
+/// through `say`). An InputError naming the file when it cannot be read or was made with other settings
+/// (the first that differs, of those that change rows: studyResultSettingsJson).
+KeptGroups keptGroups(const StudyConfig& c, const std::filesystem::path& dir, const std::function<void(const std::string&)>& say);
+
+/// The reference's state from its checkpoint at `path`, when there is one (an InputError when it is
+/// damaged or of other settings).
+void resumeReference(const std::filesystem::path& path, const RenderIdentity& identity, RenderState& state);
+
+StudyRow rowFromJson(const nlohmann::json& j);
 
 // ---- measure.cpp
 

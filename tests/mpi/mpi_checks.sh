@@ -91,7 +91,7 @@ study-interrupt)
   rows=$(($(wc -l <"$work/st/results.csv") - 1))
   [ "$rows" -ge 2 ] && [ $((rows % 2)) -eq 0 ] || fail "$rows rows kept: expected whole groups of 2"
   [ "$rows" -lt 44 ] || fail "the study finished before it was interrupted"
-  grep -qxF "symphong: interrupted; $rows finished row(s) kept in $work/st/results.csv" "$work/err" ||
+  grep -qxF "symphong: interrupted; $rows finished row(s) kept in $work/st/results.csv (--resume continues)" "$work/err" ||
     fail "rank 0's message: $(cat "$work/err")"
   grep -qF '**Interrupted**' "$work/st/report.md" || fail "the report does not say it was interrupted"
   ;;

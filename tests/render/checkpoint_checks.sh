@@ -15,6 +15,8 @@
 #                 error naming the file and what differs, the checkpoint left as it was; an existing
 #                 checkpoint without --resume; --resume with no checkpoint starts afresh and says so;
 #                 a finished checkpoint gives its image at once
+#   study-resume  a study stopped by SIGINT while rendering its reference writes reference.ckpt; --resume
+#                 resumes it and ends with the rows of an uninterrupted study (times aside)
 #   stop-rules    --time stops with "time limit" and fewer samples than --spp; --target-error stops with
 #                 "target error"
 set -euo pipefail
@@ -153,6 +155,31 @@ refused)
   grep -q "no checkpoint at fresh.exr.ckpt yet: starting from the beginning" err || fail "stderr: $(cat err)"
   [ -s fresh.exr.ckpt ] || fail "no checkpoint beside the output"
   cmp ref.exr fresh.exr || fail "a fresh --resume render differs"
+  ;;
+study-resume)
+  study=(study cornell -e cosine,phong --spp 1,4 -R 2 -W 24 -H 24 --reference-spp 6000 --no-plots -t 2)
+  "$bin" "${study[@]}" -o whole >/dev/null 2>&1
+  "$bin" "${study[@]}" -o parts >/dev/null 2>err &
+  pid=$!
+  sleep 1
+  kill -INT "$pid"
+  rc=0
+  wait "$pid" || rc=$?
+  [ "$rc" -eq 130 ] || fail "SIGINT during the reference: exit code $rc: $(cat err)"
+  [ -s parts/reference.ckpt ] || fail "no reference checkpoint after SIGINT: $(ls parts)"
+  "$bin" "${study[@]}" -o parts --resume >/dev/null 2>err || fail "resume failed: $(cat err)"
+  grep -q "resuming the reference from parts/reference.ckpt" err || fail "the reference was not resumed: $(cat err)"
+  [ ! -e parts/reference.ckpt ] || fail "the finished reference's checkpoint was left behind"
+  cmp whole/reference.exr parts/reference.exr || fail "the resumed reference differs from the uninterrupted one"
+  python3 - whole/results.json parts/results.json <<'PY' || fail "the rows differ"
+import json, sys
+timing = {"seconds", "rays", "efficiency", "efficiency_relmse"}
+a, b = (json.load(open(f))["rows"] for f in sys.argv[1:3])
+assert len(a) == len(b), (len(a), len(b))
+for x, y in zip(a, b):
+    for k in x:
+        assert k in timing or x[k] == y[k], (k, x[k], y[k])
+PY
   ;;
 stop-rules)
   "$bin" "${base[@]}" --spp 1000000 --time 1 -o t.exr >out
