@@ -15,6 +15,31 @@ namespace {
 
 std::vector<std::string> modeNames() { return {"branch", "spread"}; }
 
+/// The reference's fields: given, or rendered with its spp, error, estimator and sampler.
+void addReferenceFields(schema::Schema<StudyOptions>& s) {
+    using F = schema::Field<StudyOptions>;
+    using schema::ref;
+    using O = StudyOptions;
+    s.push_back(F("reference", "--reference", "reference image (linear EXR of the same size) instead of rendering one",
+                  ref<O>([](O & o) -> auto& { return o.config.referencePath; }))
+                    .noDefaultShown()
+                    .orNone());
+    s.push_back(F("reference_spp", "--reference-spp", "samples per pixel of the rendered reference",
+                  ref<O>([](O & o) -> auto& { return o.config.referenceSpp; }))
+                    .range(1, 10000000));
+    s.push_back(F("reference_error", "--reference-error",
+                  "stop the rendered reference once the relative standard error of its mean is at most this (e.g. 0.001), "
+                  "with --reference-spp as the upper bound; 0: exactly --reference-spp",
+                  ref<O>([](O & o) -> auto& { return o.config.referenceError; }))
+                    .range(0, 1));
+    s.push_back(F("reference_estimator", "--reference-estimator", "unbiased estimator for the reference",
+                  ref<O>([](O & o) -> auto& { return o.config.referenceEstimator; })));
+    s.push_back(F("reference_sampler", "--reference-sampler", "sampler of the reference (independent: its own noise is known)",
+                  ref<O>([](O & o) -> auto& { return o.config.referenceSampler; }))
+                    .namedFrom(samplerNames)
+                    .checkedBy(checkSamplerName));
+}
+
 }  // namespace
 
 const schema::Schema<StudyOptions>& studySchema() {
@@ -55,24 +80,7 @@ const schema::Schema<StudyOptions>& studySchema() {
         s.push_back(F("repeats", "--repeats,-R", "independent renders per estimator and spp",
                       ref<O>([](O & o) -> auto& { return o.config.repeats; }))
                         .range(1, 1000));
-        s.push_back(F("reference", "--reference", "reference image (linear EXR of the same size) instead of rendering one",
-                      ref<O>([](O & o) -> auto& { return o.config.referencePath; }))
-                        .noDefaultShown()
-                        .orNone());
-        s.push_back(F("reference_spp", "--reference-spp", "samples per pixel of the rendered reference",
-                      ref<O>([](O & o) -> auto& { return o.config.referenceSpp; }))
-                        .range(1, 10000000));
-        s.push_back(F("reference_error", "--reference-error",
-                      "stop the rendered reference once the relative standard error of its mean is at most this (e.g. 0.001), "
-                      "with --reference-spp as the upper bound; 0: exactly --reference-spp",
-                      ref<O>([](O & o) -> auto& { return o.config.referenceError; }))
-                        .range(0, 1));
-        s.push_back(F("reference_estimator", "--reference-estimator", "unbiased estimator for the reference",
-                      ref<O>([](O & o) -> auto& { return o.config.referenceEstimator; })));
-        s.push_back(F("reference_sampler", "--reference-sampler", "sampler of the reference (independent: its own noise is known)",
-                      ref<O>([](O & o) -> auto& { return o.config.referenceSampler; }))
-                        .namedFrom(samplerNames)
-                        .checkedBy(checkSamplerName));
+        addReferenceFields(s);
         s.push_back(F("out", "--out,-o", "output directory", ref<O>([](O & o) -> auto& { return o.config.outDir; })).keepsPixels());
         s.push_back(F("width", "--width,-W", "image width", ref<O>([](O & o) -> auto& { return o.config.width; })).range(1, 4096));
         s.push_back(F("height", "--height,-H", "image height", ref<O>([](O & o) -> auto& { return o.config.height; })).range(1, 4096));
