@@ -25,7 +25,7 @@ Image gradient() {
     return img;
 }
 
-fs::path tmp(const std::string& name) { return fs::temp_directory_path() / ("symphong-io-" + name); }
+fs::path tmp(const std::string& name) { return fs::temp_directory_path() / ("symphong-io-" + name + "-" + std::to_string(::getpid())); }
 
 }  // namespace
 

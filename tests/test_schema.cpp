@@ -3,10 +3,10 @@
 // and read back, its errors naming the key, the command-line options built from a schema parsing and
 // checking as CLI11 does, and a study's settings in results.json giving its configuration back.
 #include "cli/schema_cli.h"
-#include "io/input_error.h"
-#include "scene/scene.h"
 #include "estimators/options.h"
+#include "io/input_error.h"
 #include "render/settings.h"
+#include "scene/scene.h"
 #include "study/config.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +15,8 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+
+#include <unistd.h>
 
 using namespace symphong;
 
@@ -163,7 +165,7 @@ TEST(Schema, AStudysSettingsInResultsJsonGiveItsConfigurationBack) {
 }
 
 TEST(Schema, ASceneFilesRenderSettingsApplyUnderTheUsersOwn) {
-    const auto dir = std::filesystem::temp_directory_path() / "symphong-schema-scene";
+    const auto dir = std::filesystem::temp_directory_path() / ("symphong-schema-scene-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     const std::string path = (dir / "s.json").string();
     {

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -42,7 +43,9 @@ struct TempDir {
     std::filesystem::path path;
     TempDir() {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = std::filesystem::temp_directory_path() / ("symphong-test-" + std::string(info->test_suite_name()) + "." + info->name());
+        // The process id too: two test suites (two builds) may run at once on one machine.
+        path = std::filesystem::temp_directory_path() /
+               ("symphong-test-" + std::string(info->test_suite_name()) + "." + info->name() + "." + std::to_string(::getpid()));
         std::filesystem::remove_all(path);
         std::filesystem::create_directories(path);
     }
