@@ -62,16 +62,19 @@ void unpackTiles(RenderState& s, const int* tiles, int count, const std::vector<
     }
 }
 
-/// A message of doubles from `from` with `tag`, whatever its length.
-std::vector<double> receiveDoubles(int from, int tag) {
+/// A message of T (MPI type `type`) from `from` with `tag`, whatever its length.
+template <class T>
+std::vector<T> receiveAll(int from, int tag, MPI_Datatype type) {
     MPI_Status status;
     MPI_Probe(from, tag, MPI_COMM_WORLD, &status);
     int n = 0;
-    MPI_Get_count(&status, MPI_DOUBLE, &n);
-    std::vector<double> data(static_cast<std::size_t>(n));
-    MPI_Recv(data.data(), n, MPI_DOUBLE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Get_count(&status, type, &n);
+    std::vector<T> data(static_cast<std::size_t>(n));
+    MPI_Recv(data.data(), n, type, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     return data;
 }
+
+std::vector<double> receiveDoubles(int from, int tag) { return receiveAll<double>(from, tag, MPI_DOUBLE); }
 
 /// Rank 0's shared counter: its own threads draw from it directly, the dispatcher for the others.
 class CounterSource : public TileSource {
@@ -196,12 +199,8 @@ void sendTiles(const std::vector<int>& tiles, const RenderState& state) {
 /// On rank 0: every other rank's tiles into the state; the number of tiles each rendered.
 void gatherTiles(const MpiJob& job, RenderState& state, std::vector<int>& tilesPerRank) {
     for (int r = 1; r < job.size(); ++r) {
-        MPI_Status status;
-        MPI_Probe(r, kTagTiles, MPI_COMM_WORLD, &status);
-        int n = 0;
-        MPI_Get_count(&status, MPI_INT, &n);
-        std::vector<int> tiles(static_cast<std::size_t>(n));
-        MPI_Recv(tiles.data(), n, MPI_INT, r, kTagTiles, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        const std::vector<int> tiles = receiveAll<int>(r, kTagTiles, MPI_INT);
+        const int n = static_cast<int>(tiles.size());
         unpackTiles(state, tiles.data(), n, receiveDoubles(r, kTagPixels));
         tilesPerRank[static_cast<std::size_t>(r)] = n;
     }

@@ -36,16 +36,6 @@ RenderState startingState(const RenderOptions& o, const std::string& path, const
 
 }  // namespace
 
-std::uint64_t samplesIn(const RenderState& s) {
-    std::uint64_t n = 0;
-    for (int t = 0; t < static_cast<int>(s.tileSamples.size()); ++t) {
-        int x0, y0, x1, y1;
-        tileRect(t, s.width, s.height, x0, y0, x1, y1);
-        n += static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0) * s.tileSamples[static_cast<std::size_t>(t)];
-    }
-    return n;
-}
-
 LongRender startLongRender(const RenderOptions& o, const Scene& scene, const std::string& checkpoint,
                            const std::function<void(const std::string&)>& say) {
     stopRules(o);  // its input errors first
@@ -61,7 +51,7 @@ void continueLongRender(LongRender& run, const RenderOptions& o, const Scene& sc
                         const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
                         const std::function<void(const RenderState&)>& onCheckpoint, const PassRunner& runPass) {
     const StopRules rules = stopRules(o);
-    if (progress) progress->store(samplesIn(run.state));
+    if (progress) progress->store(run.state.samples);  // every sample a tile holds is counted there
     RenderSettings settings = renderSettings(o);
     settings.cancel = cancel;
     CheckpointSchedule schedule(o.checkpointInterval, run.state.seconds);

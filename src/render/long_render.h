@@ -44,7 +44,4 @@ LongRender renderLong(const RenderOptions& o, const Scene& scene, const Accel& a
                       const std::string& checkpoint, const std::atomic<bool>* cancel, std::atomic<std::uint64_t>* progress,
                       const std::function<void(const RenderState&)>& onCheckpoint, const std::function<void(const std::string&)>& say);
 
-/// Samples already in a state (where a progress bar starts).
-std::uint64_t samplesIn(const RenderState& s);
-
 }  // namespace symphong

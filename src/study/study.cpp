@@ -288,7 +288,7 @@ bool StudyRun::renderReference() {
         const std::string checkpoint = writer_ ? (writer_->dir() / "reference.ckpt").string() : std::string();
         CheckpointSchedule schedule(kStudyCheckpointInterval, refState_.seconds);
         if (!writer_) refState_ = RenderState(c_.width, c_.height, c_.referenceSpp);
-        progress_.samples = samplesIn(refState_);
+        progress_.samples = refState_.samples;
         const StopReason why = rt_.renderPasses(
             scene_, *accel_, *est, rs, rules, refState_,
             [&](const PassReport& r) {
