@@ -8,7 +8,7 @@
 #include "io/image.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>

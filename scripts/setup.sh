@@ -17,6 +17,7 @@ packages=(
   python3-matplotlib
   pybind11-dev python3-dev python3-numpy python3-pytest
   dpkg-dev python3-pip python3-setuptools python3-wheel
+  chromium chromium-driver python3-selenium  # the browser test of report.html
 )
 . scripts/install-missing.sh
 install_missing setup "${packages[@]}"

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes docs/study/report.md from the studies' results.json (one per scene), as scripts/run-studies.sh
-runs them: the answer first (computed, at most ten lines), then one table per measure (variants x scenes,
-each cell an efficiency factor with its 95% interval from the repeats), the variance budget, and each
-scene's own conclusion. Every number is computed here from the rows; nothing is written by hand.
+runs them: the answer first (computed, at most ten short lines), then one table per measure (variants x
+scenes, each cell an efficiency factor with its 95% interval from the repeats), the variance budget, and
+links to each scene's own pages (report.md, details.md, report.html). Every number is computed here from the rows; nothing is written by hand.
 
 Efficiency of a render is 1/(error x time); a variant's efficiency is the median over its repeats, and a
 ratio of two variants is the ratio of their medians. Its interval: the 2.5 and 97.5 percentiles of that
@@ -58,7 +58,7 @@ def ratio_interval(a, b, rng, draws=4000):
 
 
 def fmt_factor(x):
-    return f"{x:.0f}x" if x >= 10 else f"{x:.2g}x"
+    return f"{x:.0f}x" if x >= 10 else f"{x:#.2g}x"
 
 
 def fmt_interval(point, lo, hi):
@@ -91,64 +91,77 @@ def main(argv):
              "direction each); no `+spread`: its set traced from one camera sample (`symmetric-mix`: an orbit of 2 copies, "
              "two paths); `+split2`: two directions from each camera sample's first hit.", ""]
 
-    # ---- the answer (at most ten lines)
+    # ---- the answer (at most ten lines, each short: the tables below hold every factor)
+    def verdict(a, b):
+        """(ahead, behind, median factors) of a over b by MSE across the scenes."""
+        rs = [cmp(n, a, b, "efficiency") for n in names]
+        rs = [r for r in rs if r]
+        return sum(r[1] > 1 for r in rs), sum(r[2] < 1 for r in rs), [r[0] for r in rs]
+
+    def span(xs):
+        return f"{fmt_factor(min(xs))} to {fmt_factor(max(xs))}" if xs else "-"
+
     ans = []
-    for a, b, what in PAIRS:
-        if a not in variants or b not in variants:
-            continue
-        cells = []
-        ahead = behind = 0
-        for name in names:
-            r = cmp(name, a, b, "efficiency")
-            if r is None:
-                continue
-            cells.append(f"{name} {fmt_interval(*r)}")
-            ahead += 1 if r[1] > 1 else 0
-            behind += 1 if r[2] < 1 else 0
-        rel = [cmp(n, a, b, "efficiency_relmse") for n in names]
-        rel = [r for r in rel if r]
-        rel_range = f"{min(r[0] for r in rel):.2g}x to {max(r[0] for r in rel):.2g}x" if rel else "-"
-        ans.append(f"- **`{a}` vs `{b}`**{' (' + what + ')' if what else ''}, by MSE: " + "; ".join(cells) +
-                   f". Ahead with 95% confidence on {ahead} of {len(cells)}, behind on {behind}; by relMSE {rel_range}.")
-    # targets of the issue
-    mix, base = "symmetric-mix+spread", BASE
+    winners = []
+    for name in names:
+        eff = {v: statistics.median(repeats(data[name], v, "efficiency")) for v in variants if repeats(data[name], v, "efficiency")}
+        unbiased = [v for v in eff if not any(s["variant"] == v and s["bias_significant"] for s in data[name]["summary"])]
+        ranked = sorted(unbiased, key=lambda v: -eff[v])
+        if len(ranked) >= 2:
+            winners.append(f"{name} `{ranked[0]}` {fmt_interval(*cmp(name, ranked[0], ranked[1], 'efficiency'))} over `{ranked[1]}`")
+    ans.append("- **Most efficient by MSE** (over the runner-up): " + "; ".join(winners) + ".")
+    mix, split = "symmetric-mix+spread", "symmetric-mix"
+    if mix in variants and BASE in variants:
+        a1, b1, f1 = verdict(mix, BASE)
+        line = (f"- **Does symmetric sampling pay?** {'Yes' if a1 > len(names) / 2 else 'No'}: `{mix}` is ahead of `{BASE}` with 95% "
+                f"confidence on {a1} of {len(names)} scenes, behind on {b1} ({span(f1)})")
+        if split in variants and "phong+split2" in variants:
+            a2, b2, f2 = verdict(split, "phong+split2")
+            line += f"; `{split}` against `phong+split2` (the same paths per sample): ahead on {a2}, behind on {b2} ({span(f2)})"
+        ans.append(line + ".")
+    if mix in variants and "cosine" in variants:
+        a3, b3, f3 = verdict(mix, "cosine")
+        ans.append(f"- **Against cosine sampling** `{mix}` is ahead on {a3} of {len(names)} scenes ({span(f3)}).")
+    if "symmetric+spread" in variants and mix in variants:
+        a4, b4, f4 = verdict(mix, "symmetric+spread")
+        ans.append(f"- **The corrected mix against the plain symmetric estimator** (`symmetric+spread`): ahead on {a4}, behind on "
+                   f"{b4} ({span(f4)}).")
     if mix in variants:
         best = {}
         for name in names:
-            cands = [v for v in ("symmetric-mix+spread", "symmetric-mix") if v in variants]
-            best[name] = max((cmp(name, v, base, "efficiency")[0], v) for v in cands)
+            cands = [v for v in (mix, split) if v in variants]
+            best[name] = max((cmp(name, v, BASE, "efficiency")[0], v) for v in cands)
         met1 = [n for n in names if best[n][0] >= 1.0]
         met2 = [n for n in SCENES_GLOSSY if n in best and best[n][0] >= 1.2]
-        ans.append(f"- **Targets** (the better `symmetric-mix` mode vs `{base}` by MSE, medians): >= 1.0x on "
-                   f"{len(met1)} of {len(names)} scenes ({', '.join(f'{n} {best[n][0]:.2f}x' for n in names)}); >= 1.2x on "
-                   f"{len(met2)} of the {len(SCENES_GLOSSY)} glossy scenes.")
+        ans.append(f"- **Targets** (the better `symmetric-mix` mode vs `{BASE}`, medians): >= 1.0x on {len(met1)} of {len(names)} "
+                   f"scenes, >= 1.2x on {len(met2)} of the {len(SCENES_GLOSSY)} glossy ones.")
     shares = []
     for name in names:
         for s in data[name]["summary"]:
-            if s["variant"] == base and s["spp"] == top and s.get("first_bounce_share", -1) >= 0:
-                shares.append((name, s["first_bounce_share"]))
+            if s["variant"] == BASE and s["spp"] == top and s.get("first_bounce_share", -1) >= 0:
+                shares.append(s["first_bounce_share"])
     if shares:
-        ans.append(f"- **Where the variance is** (`{base}`, variance budget): the first-bounce directions carry "
-                   f"{statistics.median(s for _, s in shares):.0%} of the pixel variance (median over the scenes; "
-                   f"{', '.join(f'{n} {s:.0%}' for n, s in shares)}; total effect, see below): that is where any first-bounce "
-                   "estimator must win, and symmetric copies of one point, with the same density as `phong`, do not place a "
-                   "pixel's first-bounce directions better than Owen-scrambled Sobol' points (docs/estimators.md, section 10).")
+        ans.append(f"- **Why**: the first-bounce directions carry {statistics.median(shares):.0%} of `{BASE}`'s pixel variance (median "
+                   "over the scenes), and symmetric copies of one point do not place them better than Owen-scrambled Sobol' points "
+                   "(docs/estimators.md, section 10).")
+    ans.append(f"- Factors: ratios of median efficiency 1/(MSE x time) at {top} spp over {reps} repeats; [a, b]: 95% bootstrap "
+               "interval. Each scene's page has its own answer, every measure and an interactive viewer (`report.html`).")
     lines += ["## The answer", ""] + ans[:10] + [""]
 
     # ---- one compact table per measure, relative to phong@sobol
     for key, title in MEASURES:
-        lines += [f"## Efficiency by {title}, relative to `{base}` (95% interval)", "",
+        lines += [f"## Efficiency by {title}, relative to `{BASE}` (95% interval)", "",
                   "| variant | " + " | ".join(f"[{n}]({n}/report.md)" for n in names) + " |",
                   "|---|" + "---:|" * len(names)]
         for v in variants:
             cells = []
             for name in names:
-                r = cmp(name, v, base, key)
+                r = cmp(name, v, BASE, key)
                 if r is None:
                     cells.append("-")
                     continue
                 biased = any(s["variant"] == v and s["bias_significant"] for s in data[name]["summary"])
-                cells.append(("1x" if v == base else fmt_interval(*r)) + (" (biased)" if biased else ""))
+                cells.append(("1x" if v == BASE else fmt_interval(*r)) + (" (biased)" if biased else ""))
             lines.append(f"| `{v}` | " + " | ".join(cells) + " |")
         lines.append("")
 
@@ -171,9 +184,14 @@ def main(argv):
         lines.append(f"| `{v}` | " + " | ".join(cells) + " |")
     lines.append("")
 
-    # ---- each scene's own conclusion
+    # ---- the scenes' own pages
+    lines += ["## Each scene", "",
+              "Each scene's `report.md` answers for that scene with its own intervals and tables at every spp; `details.md` has "
+              "every measure, the variance budget and the plots; `report.html` (open it from a clone: it holds its images) flips "
+              "between the reference and every render with error and FLIP maps.", ""]
     for name in names:
-        lines += [f"## [{name}]({name}/report.md)", "", data[name]["conclusion"], ""]
+        lines.append(f"- [{name}]({name}/report.md) ([details]({name}/details.md), [viewer]({name}/report.html))")
+    lines.append("")
     with open("docs/study/report.md", "w") as f:
         f.write("\n".join(lines))
 

@@ -6,7 +6,7 @@
 #include "stats.h"
 #include "test_util.h"
 
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <gtest/gtest.h>
 

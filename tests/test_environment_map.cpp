@@ -10,7 +10,7 @@
 #include "io/image.h"
 #include "io/input_error.h"
 #include "scene/environment_map.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include "stats.h"
 #include "study/environment.h"
 #include "study/furnace.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <gtest/gtest.h>
 

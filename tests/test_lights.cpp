@@ -7,7 +7,7 @@
 #include "test_util.h"
 
 #include "io/input_error.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // and bit-for-bit determinism across thread counts.
 #include "scene/scene.h"
 #include "stats.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 #include "test_util.h"
 
 #include <fmt/format.h>

@@ -4,7 +4,7 @@
 #include "io/files.h"
 #include "io/image.h"
 #include "io/input_error.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 #include "study/study.h"
 #include "test_util.h"
 
@@ -227,7 +227,7 @@ TEST(StudyBudget, FirstBounceVarianceIsMeasuredAtTheTopSpp) {
             EXPECT_LT(s.firstBounceVariance, 0.0) << s.variant << " at " << s.spp << " spp: not measured";
         }
     }
-    const std::string report = readAll(dir / "report.md");
+    const std::string report = readAll(dir / "details.md");
     EXPECT_NE(report.find("## Variance budget (1 pairs)"), std::string::npos);
     EXPECT_NE(report.find("--budget-pairs 1"), std::string::npos);
     fs::remove_all(dir);
@@ -283,14 +283,114 @@ TEST(StudyVariants, SamplersAndModesMakeVariants) {
 }
 
 TEST_F(TinyStudy, WritesTheReportHeatmapsAndRenders) {
-    const std::string report = readAll(*dir_ / "report.md");
-    EXPECT_NE(report.find("## Conclusion"), std::string::npos);
+    const std::string report = readAll(*dir_ / "details.md");
+    EXPECT_NE(report.find("## Conclusion in words"), std::string::npos);
     EXPECT_NE(report.find("## Equal time"), std::string::npos);
     EXPECT_NE(report.find("| paper | 64 |"), std::string::npos) << report;
-    for (const char* f :
-         {"reference.exr", "reference.json", "reference.png", "renders/cosine.png", "renders/paper.png", "heatmaps/cosine.f32"})
+    for (const char* f : {"reference.exr", "reference.json", "reference.png", "renders/cosine.png", "renders/paper.png", "heatmaps/cosine.f32",
+                          "renders/cosine@16spp.exr", "renders/paper@64spp.exr", "report.html"})
         EXPECT_GT(fs::file_size(*dir_ / f), 0u) << f;
     EXPECT_EQ(fs::file_size(*dir_ / "heatmaps/paper.f32"), 16u * 16u * sizeof(float));
+}
+
+// report.md answers first: "## The answer" within the first lines, at most ten lines of it, then one
+// table per measure with a row per variant and a column per spp.
+TEST_F(TinyStudy, ReportMdStartsWithTheAnswerAndOneTablePerMeasure) {
+    const std::string report = readAll(*dir_ / "report.md");
+    const std::size_t answer = report.find("## The answer\n\n");
+    ASSERT_NE(answer, std::string::npos) << report;
+    EXPECT_LT(std::count(report.begin(), report.begin() + static_cast<long>(answer), '\n'), 12) << "the answer comes first";
+    const std::size_t end = report.find("\n\n", answer + 15);
+    const std::string lines = report.substr(answer + 15, end - answer - 15);
+    const long count = std::count(lines.begin(), lines.end(), '\n') + 1;
+    EXPECT_LE(count, 10) << lines;
+    EXPECT_NE(lines.find("**Most efficient by MSE** at 64 spp: `cosine`"), std::string::npos) << lines;  // `paper` is biased
+    EXPECT_NE(lines.find("`paper` "), std::string::npos) << "the bias line names it: " << lines;
+    EXPECT_NE(lines.find("95% bootstrap interval"), std::string::npos) << lines;
+    for (const char* title : {"## Efficiency by MSE, relative to `cosine` (95% interval)", "## Efficiency by relMSE, relative to `cosine`",
+                              "## RMSE of luminance (95% interval)"})
+        EXPECT_NE(report.find(title), std::string::npos) << title;
+    EXPECT_NE(report.find("| variant | 16 spp | 64 spp |"), std::string::npos) << report;
+    EXPECT_NE(report.find("| `cosine` | 1x | 1x |"), std::string::npos) << report;
+    EXPECT_NE(report.find("| `paper` (biased) |"), std::string::npos) << report;
+    EXPECT_NE(report.find("[report.html](report.html)"), std::string::npos);
+}
+
+namespace {
+
+std::vector<unsigned char> decodeBase64(const std::string& s) {
+    std::vector<unsigned char> out;
+    unsigned buffer = 0;
+    int bits = 0;
+    for (char ch : s) {
+        int v = -1;
+        if (ch >= 'A' && ch <= 'Z') v = ch - 'A';
+        if (ch >= 'a' && ch <= 'z') v = ch - 'a' + 26;
+        if (ch >= '0' && ch <= '9') v = ch - '0' + 52;
+        if (ch == '+') v = 62;
+        if (ch == '/') v = 63;
+        if (v < 0) continue;  // padding
+        buffer = (buffer << 6) | static_cast<unsigned>(v);
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out.push_back(static_cast<unsigned char>((buffer >> bits) & 0xff));
+        }
+    }
+    return out;
+}
+
+/// binary16 to float by its definition: (-1)^s 2^(e - 15) (1 + m / 1024), subnormals 2^-14 m / 1024.
+double halfValue(unsigned h) {
+    const int e = (h >> 10) & 31, m = h & 1023;
+    const double s = (h & 0x8000) ? -1 : 1;
+    return e == 0 ? s * std::ldexp(m / 1024.0, -14) : s * std::ldexp(1 + m / 1024.0, e - 15);
+}
+
+nlohmann::json pageData(const std::string& html) {
+    const std::string open = "<script id=\"study-data\" type=\"application/json\">";
+    const std::size_t a = html.find(open);
+    if (a == std::string::npos) return nullptr;
+    const std::size_t b = html.find("</script>", a);
+    return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
+}
+
+}  // namespace
+
+// report.html holds every variant's first repeat at every spp, bit for bit the half-float EXR beside it,
+// the reference to half precision, FLIP maps of the right size, and the errors of each render computed
+// again here.
+TEST_F(TinyStudy, ReportHtmlCarriesEveryRenderAndItsErrors) {
+    const nlohmann::json d = pageData(readAll(*dir_ / "report.html"));
+    ASSERT_FALSE(d.is_null());
+    EXPECT_EQ(d["width"], 16);
+    EXPECT_EQ(d["spp"], (std::vector<int>{16, 64}));
+    ASSERT_EQ(d["variants"].size(), 2u);
+    const Image ref = readExr((*dir_ / "reference.exr").string());
+    const auto refBytes = decodeBase64(d["reference"]["image"].get<std::string>());
+    ASSERT_EQ(refBytes.size(), 16u * 16u * 6u);
+    for (std::size_t i = 0; i < ref.pixels.size() * 3; ++i) {
+        const double v = halfValue(refBytes[2 * i] | (refBytes[2 * i + 1] << 8)), want = ref.pixels[i / 3][static_cast<int>(i % 3)];
+        ASSERT_NEAR(v, want, std::abs(want) / 2048 + 1e-7) << i;  // half: 11 significant bits
+    }
+    for (const auto& v : d["variants"]) {
+        const std::string label = v["label"];
+        ASSERT_EQ(v["images"].size(), 2u);
+        for (const auto& e : v["images"]) {
+            ASSERT_FALSE(e.is_null()) << label;
+            const Image exr = readExr((*dir_ / "renders" / (label + "@" + std::to_string(e["spp"].get<int>()) + "spp.exr")).string());
+            const auto bytes = decodeBase64(e["image"].get<std::string>());
+            ASSERT_EQ(bytes.size(), 16u * 16u * 6u);
+            for (std::size_t i = 0; i < exr.pixels.size() * 3; ++i)
+                ASSERT_EQ(halfValue(bytes[2 * i] | (bytes[2 * i + 1] << 8)), exr.pixels[i / 3][static_cast<int>(i % 3)]) << label << " " << i;
+            EXPECT_EQ(decodeBase64(e["flip"].get<std::string>()).size(), 16u * 16u);
+            EXPECT_GT(e["flip_mean"].get<double>(), 0.0);
+            EXPECT_LE(e["flip_mean"].get<double>(), 1.0);
+            EXPECT_NEAR(e["rmse"].get<double>(), imageError(exr, ref).rmse, 1e-12) << label;
+        }
+    }
+    EXPECT_EQ(d["tables"].size(), 3u);
+    EXPECT_LE(d["answer"].size(), 10u);
 }
 
 TEST_F(TinyStudy, TheReferenceIsCachedAndReusedOnlyWhenTheSettingsMatch) {
@@ -353,7 +453,11 @@ TEST(Study, MakesEveryPlotAsPngAndSvg) {
     }
     for (const char* stem : {"convergence_spp", "convergence_time", "efficiency", "heatmaps", "crops"})
         for (const char* ext : {".png", ".svg"}) EXPECT_GT(fs::file_size(dir / (std::string(stem) + ext)), 1000u) << stem << ext;
-    EXPECT_NE(readAll(dir / "report.md").find("![RMSE against samples per pixel](convergence_spp.png)"), std::string::npos);
+    EXPECT_NE(readAll(dir / "details.md").find("![RMSE against samples per pixel](convergence_spp.png)"), std::string::npos);
+    // report.html carries every plot inside it.
+    const std::string html = readAll(dir / "report.html");
+    EXPECT_NE(html.find("RMSE against render time"), std::string::npos);
+    EXPECT_EQ(html.find("convergence_spp.png"), std::string::npos) << "plots are embedded, not linked";
     fs::remove_all(dir);
 }
 

@@ -11,7 +11,7 @@
 #include "sampling/warp.h"
 #include "stats.h"
 #include "study/furnace.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <gtest/gtest.h>
 

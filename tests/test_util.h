@@ -7,7 +7,7 @@
 #include "estimators/estimator.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <gtest/gtest.h>
 

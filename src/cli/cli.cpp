@@ -28,6 +28,8 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
     addFurnaceCommand(app, furnaceOptions);
     StudyOptions studyOptions;
     addStudyCommand(app, studyOptions);
+    CompareOptions compareOptions;
+    addCompareCommand(app, compareOptions);
     std::string infoScene = "cornell";
     addInfoCommand(app, infoScene);
     try {
@@ -51,11 +53,13 @@ int runCli(int argc, const char* const* argv, const MpiJob& job) {
         if (app.got_subcommand("render")) return runRender(renderOptions, givenKeys(renderCommand, renderSchema()), job);
         if (app.got_subcommand("study")) return runStudyCommand(studyOptions, job);
         if (app.got_subcommand("info")) return job.root() ? runInfo(infoScene) : 0;
-        // The furnace is not shared among ranks (its estimates take seconds): rank 0 runs it alone.
+        // The furnace and compare are not shared among ranks (they take seconds): rank 0 runs them alone.
         if (!job.root()) return 0;
         if (job.size() > 1)
-            fmt::print(stderr, "symphong: warning: 'furnace' does not share its work among MPI ranks; rank 0 runs it alone\n");
+            fmt::print(stderr, "symphong: warning: '{}' does not share its work among MPI ranks; rank 0 runs it alone\n",
+                       app.get_subcommands().front()->get_name());
         if (app.got_subcommand("furnace")) return runFurnaceCommand(furnaceOptions);
+        if (app.got_subcommand("compare")) return runCompareCommand(compareOptions);
     } catch (const InputError& e) {
         // Errors that reach here are the same on every rank (or were agreed on): reported once.
         if (job.root()) fmt::print(stderr, "symphong: error: {}\n", e.what());

@@ -4,6 +4,7 @@
 // interrupts.h handles Ctrl-C and the MPI launcher's signals.
 #pragma once
 
+#include "compare/compare.h"
 #include "render/settings.h"
 #include "study/config.h"
 
@@ -33,6 +34,9 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& o);
 /// given: the schema keys of the options on the command line (the scene's "render" settings fill the rest).
 int runRender(const RenderOptions& o, const std::set<std::string>& given, const MpiJob& job);
 
+/// InputError unless `path` is an .exr file that can be created (--variance-output).
+void checkVarianceOutput(const std::string& path);
+
 /// `symphong render` in passes (RenderOptions::progressive()): stop rules, checkpoints, resume
 /// (long_render.cpp). Returns the exit code (128 + the signal when SIGINT or SIGTERM stopped it).
 int renderInPasses(const RenderOptions& o, const Scene& scene, const Estimator& estimator, const std::string& output, const MpiJob& job);
@@ -42,6 +46,9 @@ int runInfo(const std::string& spec);
 
 void addFurnaceCommand(CLI::App& app, FurnaceOptions& o);
 int runFurnaceCommand(const FurnaceOptions& o);
+
+void addCompareCommand(CLI::App& app, CompareOptions& o);
+int runCompareCommand(const CompareOptions& o);
 
 void addStudyCommand(CLI::App& app, StudyOptions& o);
 int runStudyCommand(StudyOptions& o, const MpiJob& job);

@@ -87,6 +87,7 @@ int renderInPasses(const RenderOptions& o, const Scene& scene, const Estimator& 
     }
     const RenderState& state = run.state;
     if (path.empty()) writeImage(state.image(), output, o.exposure, o.exrHalf);
+    if (!o.varianceOutput.empty()) writeExr(state.variance(), o.varianceOutput);
     if (state.badSamples > 0) fmt::print(stderr, "symphong: warning: {} non-finite path contributions were discarded\n", state.badSamples);
     const double runSeconds = std::max(state.seconds - run.secondsBefore, 1e-9);
     fmt::print(

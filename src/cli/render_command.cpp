@@ -28,6 +28,12 @@ std::unique_ptr<Estimator> estimatorOrInputError(const std::string& name, const 
     }
 }
 
+void checkVarianceOutput(const std::string& path) {
+    if (imageFormatFor(path) != ImageFormat::Exr)
+        throw InputError(fmt::format("--variance-output {}: the variance is written as OpenEXR (name it .exr)", path));
+    checkWritable(path);
+}
+
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& o) {
     CLI::App* r = app.add_subcommand("render", "Render a scene to a PNG or OpenEXR image with the path tracer.");
     r->footer(
@@ -67,6 +73,7 @@ int runRender(const RenderOptions& given, const std::set<std::string>& givenKeys
         }
         output = o.output.empty() ? fmt::format("out/{}.png", scene.name) : o.output;
         if (job.root()) checkWritable(output);
+        if (job.root() && !o.varianceOutput.empty()) checkVarianceOutput(o.varianceOutput);
     } catch (const InputError& e) {
         if (!job.active()) throw;
         error = e.what();
@@ -94,6 +101,7 @@ int runRender(const RenderOptions& given, const std::set<std::string>& givenKeys
     if (result.stats.badSamples > 0)
         fmt::print(stderr, "symphong: warning: {} non-finite path contributions were discarded\n", result.stats.badSamples);
     writeImage(result.image, output, o.exposure, o.exrHalf);
+    if (!o.varianceOutput.empty()) writeExr(result.variance, o.varianceOutput);
     const double secs = std::max(result.stats.seconds, 1e-9);
     fmt::print("{}: {}x{}, {} spp, estimator {}, sampler {}{}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name, o.width,
                o.height, o.spp, estimator->name(), result.sampler,

@@ -1,6 +1,7 @@
 // `symphong study`: options from studySchema() (study/config.h); the study shared among MPI ranks
 // (distrib/study.h), Ctrl-C keeping the finished rows, the conclusion and the report's path.
 #include "cli/commands.h"
+#include "study/answer.h"
 #include "cli/interrupts.h"
 #include "cli/schema_cli.h"
 #include "distrib/mpi_job.h"
@@ -20,7 +21,10 @@ void addStudyCommand(CLI::App& app, StudyOptions& o) {
         "(rendered once at --reference-spp with --reference-estimator and cached in DIR, or given with --reference), and\n"
         "writes into DIR: results.csv and results.json (one row per estimator x spp x repeat), convergence plots against\n"
         "samples and time with the 1/sqrt(N) slope, an efficiency bar chart (PNG and SVG), per-pixel error heat maps,\n"
-        "crops of the renders, and report.md with a conclusion computed from the numbers. Ctrl-C stops cleanly and keeps\n"
+        "crops of the renders, report.md (the answer in at most ten lines with 95% bootstrap intervals over the repeats,\n"
+        "then one table per measure), details.md (every measure, the variance budget, equal time) and report.html (one\n"
+        "self-contained page: flip between the reference and each render, zoom, error and FLIP maps, plots, sortable\n"
+        "tables; open it in a browser). Ctrl-C stops cleanly and keeps\n"
         "the finished rows; --resume continues an interrupted study in DIR (its finished rows kept, its reference resumed\n"
         "from DIR/reference.ckpt, written every two minutes). --reference-error stops the reference at a relative error of\n"
         "its mean instead of at --reference-spp. With no arguments: the built-in Cornell box, 128x128, a few minutes on 2 cores.\n"
@@ -42,7 +46,11 @@ int runStudyCommand(StudyOptions& o, const MpiJob& job) {
                    o.config.outDir);
         return 130;
     }
-    fmt::print("{}\n\nreport: {}/report.md ({} rows{})\n", outcome.conclusion, o.config.outDir, outcome.rows.size(),
+    for (std::string line : studyAnswer(o.config, outcome.rows, outcome.summary)) {
+        for (std::size_t p = line.find("**"); p != std::string::npos; p = line.find("**", p)) line.erase(p, 2);
+        fmt::print("- {}\n", line);
+    }
+    fmt::print("\nreport: {0}/report.md, {0}/report.html (open it in a browser) ({1} rows{2})\n", o.config.outDir, outcome.rows.size(),
                outcome.keptRows > 0 ? fmt::format(", {} kept from the earlier run", outcome.keptRows) : "");
     if (o.config.plots && !outcome.plotted) {
         fmt::print(stderr, "symphong: error: the plots could not be made (needs python3 with matplotlib)\n");

@@ -122,6 +122,7 @@ bool takeProgress(py::dict& kwargs);
 void registerScene(py::module_& m);
 void registerRender(py::module_& m);
 void registerStudy(py::module_& m);
+void registerCompare(py::module_& m);
 void registerArrays(py::module_& m);
 
 }  // namespace symphong

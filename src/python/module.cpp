@@ -17,7 +17,9 @@ const char* const kModuleDoc = R"(symphong: a Phong path tracer built to compare
     image, stats = symphong.render(scene, spp=16)     # float32 (H, W, 3) linear radiance
     symphong.write_image('cornell.png', image)
 
-render, furnace and study take the command line's options as keyword arguments with the same defaults
+symphong.compare(test, reference) measures an image (a file or an array) against a reference, as `symphong compare`.
+
+render, furnace, study and compare take the command line's options as keyword arguments with the same defaults
 (--max-depth is max_depth, and so on) and give the same numbers: render's image is bit for bit the EXR
 that `symphong render` writes with the same settings, at any thread count. Bad input raises ValueError
 (FileNotFoundError for a missing file) with the command line's message. Renders, furnaces and studies run
@@ -44,5 +46,6 @@ PYBIND11_MODULE(symphong, m) {
     registerScene(m);
     registerRender(m);
     registerStudy(m);
+    registerCompare(m);
     registerArrays(m);
 }

@@ -102,6 +102,13 @@ const schema::Schema<RenderOptions>& renderSchema() {
         s.push_back(F("exr_half", "--exr-half", "write EXR as 16-bit half instead of 32-bit float", member(&RenderOptions::exrHalf))
                         .only(schema::kCli | schema::kJson)
                         .keepsPixels());
+        s.push_back(F("variance_output", "--variance-output",
+                      "also write the per-pixel variance of the mean (sample variance / spp, per channel) as a 32-bit EXR: "
+                      "`symphong compare --variance` gives the bias its standard error with it",
+                      member(&RenderOptions::varianceOutput))
+                        .only(schema::kCli)
+                        .noDefaultShown()
+                        .keepsPixels());
         s.push_back(F("split", "--split",
                       "first-hit splitting: trace K directions per camera sample from its first hit (K calls of the estimator on "
                       "sub-samples of the pixel's pattern, each weighted 1/K)",

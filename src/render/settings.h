@@ -31,6 +31,7 @@ struct RenderOptions {
     std::string output;
     double exposure = 1.0;
     bool exrHalf = false;
+    std::string varianceOutput;  ///< EXR of the per-pixel variance of the mean, for `symphong compare --variance`
     bool noNee = false;
     int split = 1;
     std::uint32_t firstBounceStream = 0;

@@ -1,8 +1,9 @@
-// The study's report (report.md: the conclusion first, then the tables of equal samples and equal time,
-// the variance budget and the plots) and the plots themselves (the embedded scripts/plot_study.py).
+// The study's report (report.md: the answer first, then one table per measure; details.md: every measure,
+// the variance budget, equal time and the plots) and the plots themselves (the embedded scripts/plot_study.py).
 #include "estimators/registry.h"
 #include "io/files.h"
 #include "sampling/sampler_registry.h"
+#include "study/answer.h"
 #include "study/plot_script.h"
 #include "study/study_parts.h"
 
@@ -40,7 +41,6 @@ std::string reportHeader(const ReportInputs& in) {
     const StudyConfig& c = in.config;
     const std::string& sceneName = in.sceneName;
     const std::vector<StudySummary>& summary = in.summary;
-    const std::string& conclusion = in.conclusion;
     const bool cancelled = in.cancelled;
     const int processes = in.processes;
     std::string md = fmt::format("# Estimator study: {}\n\n", sceneName);
@@ -61,7 +61,6 @@ std::string reportHeader(const ReportInputs& in) {
                                                                       : "");
     if (processes > 1)
         md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
-    md += "## Conclusion\n\n" + conclusion + "\n\n";
     for (const auto& s : summary)
         if (s.mse > 0 && in.reference.noise > 0.5 * s.mse) {
             md += fmt::format(
@@ -173,10 +172,21 @@ std::string reportEqualTime(const ReportInputs& in) {
 }  // namespace
 
 std::string reportMarkdown(const ReportInputs& in) {
-    std::string md = reportHeader(in) + reportPlots(in) + reportBudget(in) + reportEqualSamples(in) + reportEqualTime(in);
+    std::string md = reportHeader(in) + "## The answer\n\n";
+    for (const std::string& line : studyAnswer(in.config, in.rows, in.summary)) md += "- " + line + "\n";
+    md += "\nSee it: [report.html](report.html) (every render beside the reference, error and FLIP maps, zoom, plots). "
+          "Details: [details.md](details.md) (every measure of every group, the variance budget, equal time, plots).\n\n";
+    for (const ReportTable& t : studyTables(in.config, in.rows, in.summary)) md += tableMarkdown(t);
+    return md;
+}
+
+std::string reportDetailsMarkdown(const ReportInputs& in) {
+    std::string md = reportHeader(in);
+    md += "[Back to the report](report.md).\n\n## Conclusion in words\n\n" + in.conclusion + "\n\n";
+    md += reportPlots(in) + reportBudget(in) + reportEqualSamples(in) + reportEqualTime(in);
     md +=
         "\nFiles: `results.csv` and `results.json` (one row per estimator x spp x repeat), `reference.exr` (+ `reference.json`), "
-        "`renders/`, `heatmaps/`.\n";
+        "`renders/` (each variant's first repeat at each spp, as EXR, and a PNG at the heat maps' spp), `heatmaps/`, `report.html`.\n";
     return md;
 }
 

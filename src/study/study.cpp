@@ -2,6 +2,7 @@
 // (reference.cpp), each variant rendered at each spp `repeats` times and measured (measure.cpp), then the
 // summary, conclusion (summary.cpp), plots and report (report.cpp). Every process of a shared study runs
 // it in step; only the writing process holds a StudyWriter, the one object that measures into files.
+#include "study/report_html.h"
 #include "study/study_parts.h"
 
 #include "accel/accel.h"
@@ -61,6 +62,11 @@ public:
     }
     const fs::path& dir() const { return dir_; }
 
+    /// A variant's first repeat at each spp, for report.html (half floats: what the page shows).
+    void writeSppRender(const std::string& label, std::uint32_t spp, const Image& image) const {
+        writeExr(image, sppRenderPath(dir_, label, spp).string(), true);
+    }
+
     /// A variant's render at the heat maps' spp: its PNG and its relative error map.
     void writeRender(const std::string& label, const Image& image, const Reference& ref) const {
         writePng(image, (dir_ / "renders" / (label + ".png")).string());
@@ -119,8 +125,11 @@ public:
     void finish(StudyOutcome& outcome, const Reference& ref) const {
         writeResults(outcome, ref);
         if (!outcome.cancelled && c_.plots) outcome.plotted = makePlots(c_, dir_);
-        writeFile((dir_ / "report.md").string(), reportMarkdown({c_, sceneName_, outcome.summary, outcome.conclusion, ref, outcome.plotted,
-                                                                 heatSpp_, outcome.cancelled, processes_}));
+        const ReportInputs in{c_, sceneName_, outcome.summary, outcome.rows, outcome.conclusion, ref, outcome.plotted,
+                              heatSpp_, outcome.cancelled, processes_};
+        writeFile((dir_ / "report.md").string(), reportMarkdown(in));
+        writeFile((dir_ / "details.md").string(), reportDetailsMarkdown(in));
+        writeFile((dir_ / "report.html").string(), reportHtml(reportHtmlData(in, dir_)));
     }
 
 private:
@@ -346,6 +355,7 @@ bool StudyRun::runGroup(std::uint32_t spp, std::size_t ei) {
         if (!writer_) continue;  // it helped render; the writer measures
         const StudyRow row = measureRow(c_, scene_.name, variant, spp, rep, r, ref_);
         means.push_back({row.meanLuminance, row.meanStdError});
+        if (rep == 0) writer_->writeSppRender(name, spp, r.image);
         if (spp == heatSpp_ && rep == 0) writer_->writeRender(name, r.image, ref_);
         images.push_back(r.image);
         outcome_.rows.push_back(row);

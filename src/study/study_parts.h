@@ -6,7 +6,7 @@
 
 #include "io/image.h"
 #include "render/checkpoint.h"
-#include "study/metrics.h"
+#include "compare/metrics.h"
 #include "study/study.h"
 
 #include <nlohmann/json.hpp>
@@ -91,6 +91,9 @@ const StudySummary* sameSampler(const std::vector<StudySummary>& s, const std::s
 /// "2.3x", "15x".
 std::string factor(double x);
 /// Whether a variant is significantly biased at some spp.
+/// The unbiased variant with the lowest RMSE at `spp` (none when there is no unbiased one).
+const StudySummary* lowestRmse(const std::vector<StudySummary>& summary, std::uint32_t spp);
+
 bool biasedAnywhere(const std::vector<StudySummary>& s, const std::string& variant);
 
 // ---- report.cpp
@@ -104,6 +107,7 @@ struct ReportInputs {
     const StudyConfig& config;
     std::string sceneName;
     const std::vector<StudySummary>& summary;
+    const std::vector<StudyRow>& rows;
     std::string conclusion;
     const Reference& reference;
     bool plotted = false;
@@ -112,7 +116,10 @@ struct ReportInputs {
     int processes = 1;
 };
 
+/// report.md: the answer (study/answer.h) and one table per measure.
 std::string reportMarkdown(const ReportInputs& in);
+/// details.md: the conclusion in words, the plots, the variance budget, every measure at equal samples, equal time.
+std::string reportDetailsMarkdown(const ReportInputs& in);
 
 /// Runs the embedded plotting script on dir with a python3 that has matplotlib; false (with a warning)
 /// when there is none or the script fails.

@@ -105,12 +105,19 @@ const StudySummary* sameSampler(const std::vector<StudySummary>& s, const std::s
     return nullptr;
 }
 
-std::string factor(double x) { return x >= 10 ? fmt::format("{:.0f}x", x) : fmt::format("{:.2g}x", x); }
+std::string factor(double x) { return x >= 10 ? fmt::format("{:.0f}x", x) : fmt::format("{:#.2g}x", x); }
 
 bool biasedAnywhere(const std::vector<StudySummary>& s, const std::string& variant) {
     for (const auto& x : s)
         if (x.variant == variant && x.biasSignificant) return true;
     return false;
+}
+
+const StudySummary* lowestRmse(const std::vector<StudySummary>& summary, std::uint32_t spp) {
+    const StudySummary* w = nullptr;
+    for (const auto& s : summary)
+        if (s.spp == spp && !biasedAnywhere(summary, s.variant) && (!w || s.rmse < w->rmse)) w = &s;
+    return w;
 }
 
 std::string studyConclusion(const std::vector<StudySummary>& summary, const std::vector<std::uint32_t>& spps) {
@@ -160,12 +167,8 @@ std::string studyConclusion(const std::vector<StudySummary>& summary, const std:
                                                        factor(o->mse / s->mse), o->variant, factor(s->efficiency / o->efficiency)));
     if (!samplerParts.empty()) text += fmt::format("Samplers at {} spp: {}. ", top, fmt::join(samplerParts, "; "));
     std::vector<std::string> winners;
-    for (std::uint32_t spp : spps) {
-        const StudySummary* w = nullptr;
-        for (const auto& s : summary)
-            if (s.spp == spp && !biasedAnywhere(summary, s.variant) && (!w || s.rmse < w->rmse)) w = &s;
-        if (w) winners.push_back(fmt::format("{} spp: `{}`", spp, w->variant));
-    }
+    for (std::uint32_t spp : spps)
+        if (const StudySummary* w = lowestRmse(summary, spp)) winners.push_back(fmt::format("{} spp: `{}`", spp, w->variant));
     if (!winners.empty())
         text += fmt::format(
             "At equal samples per pixel, the lowest RMSE among unbiased variants goes to {} (branch-mode symmetric "

@@ -1,4 +1,4 @@
-#include "study/metrics.h"
+#include "compare/metrics.h"
 
 #include <cmath>
 #include <stdexcept>

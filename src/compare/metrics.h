@@ -1,4 +1,4 @@
-// study/metrics.h — image error metrics against a reference, as pure functions of images: mean-image
+// compare/metrics.h — image error metrics against a reference, as pure functions of images: mean-image
 // relative bias with its standard error, MSE / RMSE / relMSE, per-pixel variance across repeats.
 // All work on luminance (Rec. 709) so that one number describes a colour image.
 #pragma once
