@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Regenerates the estimator studies committed under docs/study/ (about 20 minutes on 2 cores, on a quiet
+# Regenerates the estimator studies committed under docs/study/ (21 minutes on 2 cores on 2026-12-02, on a quiet
 # machine: efficiency divides by render time): the built-in Cornell box, its diffuse, glossy (n = 100,
 # 1000) and all-glossy variants, and McGuire's glossy box from the shared scenes; every estimator under the
 # sobol sampler (the default; docs/performance.md compares the samplers), the symmetric ones in branch and
 # spread mode, phong also split 2 ways at the first hit (the same work per camera sample
 # as symmetric-mix's branch mode, an orbit of 2), 5 repeats, one variance-budget pair per variant. Extra arguments go to every `symphong study` run. Large files
-# (reference EXR, raw heat maps, SVG copies of the plots) are removed from docs/study; `symphong study`
+# (reference EXR, raw heat maps, SVG copies of the plots, the renders' EXRs that report.html holds) are
+# removed from docs/study; `symphong study`
 # itself keeps them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -24,7 +25,7 @@ for scene in "${scenes[@]}"; do
   echo "== $scene -> $out"
   rm -rf "$out/renders" "$out/heatmaps"
   "$bin" study "$scene" --out "$out" "${args[@]}" "$@"
-  rm -f "$out"/reference.exr "$out"/heatmaps/*.f32 "$out"/plot_study.py "$out"/*.svg
+  rm -f "$out"/reference.exr "$out"/heatmaps/*.f32 "$out"/plot_study.py "$out"/*.svg "$out"/renders/*.exr  # report.html holds the renders
 done
 
 # One page that answers the question across scenes, computed from each study's results.json.
