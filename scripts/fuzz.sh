@@ -60,8 +60,10 @@ run_target() {
     extra=(-detect_leaks=0)
     asan="detect_leaks=0${asan:+:$asan}"
   fi
+  # SYMPHONG_ASSIMP_IN_PROCESS=1: Assimp's importers in the fuzzer's own process, not first in a child
+  # (scene/assimp_guard.cpp), so that the fuzzer sees and keeps the inputs that crash inside Assimp.
   # shellcheck disable=SC2086  # FUZZ_ARGS is a list of flags
-  ASAN_OPTIONS=$asan nice -n "$nice_level" "$build/fuzz/$t" "$build/corpus/$t" \
+  SYMPHONG_ASSIMP_IN_PROCESS=1 ASAN_OPTIONS=$asan nice -n "$nice_level" "$build/fuzz/$t" "$build/corpus/$t" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
     -artifact_prefix="$build/artifacts/$t/" -print_final_stats=1 "${dict[@]}" "${extra[@]}" ${FUZZ_ARGS:-} \

@@ -6,6 +6,7 @@
 #include "stats.h"
 #include "test_util.h"
 
+#include "io/files.h"
 #include "io/input_error.h"
 #include "compare/metrics.h"
 
@@ -134,8 +135,8 @@ TEST(Assimp, GltfMaterialCameraAndLightFollowTheTable) {
     ASSERT_EQ(s.triangles.size(), 1u);
     const PhongMaterial& m = s.materials[s.triangles[0].material];
     EXPECT_EQ(m.name, "metal");
-    EXPECT_NEAR(m.rhoD.x, 0.8 * 0.75, 1e-6);
-    EXPECT_NEAR(m.rhoD.z, 0.4 * 0.75, 1e-6);
+    EXPECT_NEAR(m.rhoD.x, 0.8 * 0.75 * 0.96, 1e-6);  // b (1 - m) (1 - F0): the dielectric's diffuse part
+    EXPECT_NEAR(m.rhoD.z, 0.4 * 0.75 * 0.96, 1e-6);
     EXPECT_NEAR(m.rhoS.x, 0.04 * 0.75 + 0.8 * 0.25, 1e-6);
     EXPECT_NEAR(m.exponent, 2.0 / std::pow(0.25, 2) - 2.0, 1e-3);  // alpha = roughness^2 = 0.25
     EXPECT_NEAR(m.emission.x, 4.0, 1e-6);
@@ -148,6 +149,121 @@ TEST(Assimp, GltfMaterialCameraAndLightFollowTheTable) {
     EXPECT_EQ(s.lights[0].type, Light::Type::Point);
     EXPECT_NEAR(s.lights[0].position.y, 3.0, 1e-6);
     EXPECT_GT(s.lights[0].intensity.x, 0);
+}
+
+// glTF's dielectric F0 by hand from the extensions' definitions: KHR_materials_specular's
+// specularColorFactor 0 (Blender's "Specular 0") leaves a purely diffuse material of the base colour, as its
+// OBJ export is; KHR_materials_ior 2.0 gives F0 = ((2 - 1) / (2 + 1))^2 = 1/9, times specularFactor 0.5.
+TEST(Assimp, GltfSpecularAndIorExtensionsSetTheDielectricReflectance) {
+    test::TempDir dir;
+    const auto file = [&](const std::string& name, const std::string& extensions) {
+        return dir.write(name, R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+  "materials": [{"name": "m", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1], "metallicFactor": 0, "roughnessFactor": 1},
+                 "extensions": {)" + extensions + R"(}}],
+  "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/"}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, -1], "max": [1, 0, 0]}]})");
+    };
+    const PhongMaterial none = loadScene(file("zero.gltf", R"("KHR_materials_specular": {"specularColorFactor": [0, 0, 0]})")).materials[0];
+    EXPECT_NEAR(none.rhoD.x, 0.8, 1e-6);
+    EXPECT_NEAR(none.rhoD.z, 0.4, 1e-6);
+    EXPECT_EQ(none.rhoS.x, 0.0);
+    const PhongMaterial ior = loadScene(file("ior.gltf", R"("KHR_materials_ior": {"ior": 2.0}, "KHR_materials_specular": {"specularFactor": 0.5})"))
+                                  .materials[0];
+    const double f0 = 0.5 / 9;
+    EXPECT_NEAR(ior.rhoS.y, f0, 1e-6);
+    EXPECT_NEAR(ior.rhoD.y, 0.6 * (1 - f0), 1e-6);
+}
+
+// Collada by hand: a <lambert> effect is purely diffuse (Assimp 5.2 would give it its default specular 0.4
+// and shininess 10), a <constant> one only emits, a <phong> one keeps its numbers. (The camera's <xfov>:
+// BlenderExportsKeepTheCamerasFieldOfView, on Blender's own file.)
+TEST(Assimp, ColladaShadingModels) {
+    test::TempDir dir;
+    const std::string dae = dir.write("s.dae", R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><up_axis>Y_UP</up_axis></asset>
+  <library_cameras><camera id="cam"><optics><technique_common><perspective>
+    <xfov sid="xfov">39.3077</xfov><aspect_ratio>1.5</aspect_ratio><znear sid="znear">0.1</znear><zfar sid="zfar">100</zfar>
+  </perspective></technique_common></optics></camera></library_cameras>
+  <library_effects>
+    <effect id="wall-fx"><profile_COMMON><technique sid="common"><lambert>
+      <diffuse><color>0.8 0.2 0.1 1</color></diffuse></lambert></technique></profile_COMMON></effect>
+    <effect id="lamp-fx"><profile_COMMON><technique sid="common"><constant>
+      <emission><color>5 4 3 1</color></emission></constant></technique></profile_COMMON></effect>
+    <effect id="gloss-fx"><profile_COMMON><technique sid="common"><phong>
+      <diffuse><color>0.3 0.3 0.3 1</color></diffuse><specular><color>0.5 0.5 0.5 1</color></specular>
+      <shininess><float>40</float></shininess></phong></technique></profile_COMMON></effect>
+  </library_effects>
+  <library_materials>
+    <material id="wall"><instance_effect url="#wall-fx"/></material>
+    <material id="lamp"><instance_effect url="#lamp-fx"/></material>
+    <material id="gloss"><instance_effect url="#gloss-fx"/></material>
+  </library_materials>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="pa" count="9">0 0 0 1 0 0 0 1 0</float_array>
+      <technique_common><accessor source="#pa" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles material="wall" count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+    <triangles material="lamp" count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 2 1</p></triangles>
+    <triangles material="gloss" count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>1 2 0</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="scene">
+    <node id="mesh"><instance_geometry url="#g"><bind_material><technique_common>
+      <instance_material symbol="wall" target="#wall"/><instance_material symbol="lamp" target="#lamp"/>
+      <instance_material symbol="gloss" target="#gloss"/></technique_common></bind_material></instance_geometry></node>
+    <node id="camera"><translate>0 0 5</translate><instance_camera url="#cam"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+)");
+    const Scene s = loadScene(dae);
+    const auto material = [&](const std::string& name) -> const PhongMaterial& {
+        const int i = s.findMaterial(name);
+        EXPECT_GE(i, 0) << name;
+        return s.materials[static_cast<std::size_t>(std::max(i, 0))];
+    };
+    EXPECT_NEAR(material("wall").rhoD.x, 0.8, 1e-6);
+    EXPECT_EQ(material("wall").rhoS.x, 0.0);
+    EXPECT_EQ(material("lamp").rhoD.x, 0.0);
+    EXPECT_EQ(material("lamp").rhoS.x, 0.0);
+    EXPECT_NEAR(material("lamp").emission.x, 5.0, 1e-6);
+    EXPECT_NEAR(material("gloss").rhoS.x, 0.5, 1e-6);
+    EXPECT_NEAR(material("gloss").exponent, 40.0, 1e-4);
+}
+
+// FBX's SpecularFactor scales the specular colour (Assimp 5.2 hands it over apart, as the shininess
+// strength): the test file with its factor set to 0.25, and to 0 (Blender's "Specular 0").
+TEST(Assimp, FbxSpecularFactorScalesTheSpecularColour) {
+    test::TempDir dir;
+    std::string fbx = readTextFile(SYMPHONG_SOURCE_DIR "/tests/data/fbx/box.fbx");
+    for (const double factor : {0.25, 0.0}) {
+        std::string text = fbx;
+        const std::string from = "P: \"SpecularFactor\", \"Number\", \"\", \"A\",1";
+        for (std::size_t p = text.find(from); p != std::string::npos; p = text.find(from, p + 1))
+            text.replace(p, from.size(), "P: \"SpecularFactor\", \"Number\", \"\", \"A\"," + std::to_string(factor));
+        const std::string path = dir.write("box.fbx", text);
+        const Scene s = loadScene(path);
+        const int white = s.findMaterial("white");
+        ASSERT_GE(white, 0);
+        EXPECT_NEAR(s.materials[static_cast<std::size_t>(white)].rhoS.x, 0.2 * factor, 1e-6) << factor;
+        EXPECT_NEAR(s.materials[static_cast<std::size_t>(white)].rhoD.x, 0.7, 1e-6) << factor;
+    }
+}
+
+// The scene Blender 3.4 exported (tests/data/blender/, scripts/blender-roundtrip/make_scene.py): its camera
+// (40 mm lens on a 36 mm sensor, 640 x 480) has a horizontal field of view of 2 atan(18 / 40) = 48.4555
+// degrees, a vertical one of 2 atan(tan(24.2277 deg) / (4/3)) = 37.2991; glTF gives yfov, FBX and Collada the
+// full horizontal angle, each of which must come out as that vertical one.
+TEST(Assimp, BlenderExportsKeepTheCamerasFieldOfView) {
+    const double horizontal = 2 * std::atan(18.0 / 40.0);
+    const double vertical = 2 * std::atan(std::tan(horizontal / 2) / (640.0 / 480.0)) * 180 / kPi;
+    EXPECT_NEAR(vertical, 37.2991, 1e-3);
+    for (const char* file : {"scene.glb", "scene.gltf", "scene.fbx", "scene.dae"}) {
+        const Scene s = loadScene(std::string(SYMPHONG_SOURCE_DIR) + "/tests/data/blender/" + file);
+        EXPECT_NEAR(s.camera.fovY, vertical, 0.01) << file;
+    }
 }
 
 TEST(Assimp, BadFilesAreBadInput) {

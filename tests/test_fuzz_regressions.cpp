@@ -9,6 +9,7 @@
 // stb_image's implementations in (fuzz/tinyobj_instrumented.cpp, fuzz/stb_image_instrumented.cpp), so
 // that a sanitizer build (debug-asan) sees their faults too, not only symphong's.
 #include "../fuzz/fuzz_common.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -19,6 +20,8 @@
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -111,3 +114,39 @@ INSTANTIATE_TEST_SUITE_P(Findings, FuzzRegression, ::testing::ValuesIn(inputs())
     return name;
 });
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(FuzzRegression);
+
+// The findings inside Assimp itself (third-party/, its README): since Assimp's importers run first in a
+// child process (scene/assimp_guard.cpp), a crash or a runaway allocation in Assimp is an InputError that
+// names the file and says what happened, from loadScene as from the command line (exit code 2, one line).
+TEST(ThirdPartyFindings, CrashesInsideAssimpAreInputErrors) {
+    using namespace symphong;
+    const fs::path dir = fs::temp_directory_path() / ("symphong-third-party-" + std::to_string(::getpid()));
+    std::vector<std::pair<const char*, const char*>> cases = {
+        {"segv-collada-polylist-without-inputs.dae", "crashed"},
+        {"segv-collada-null-read-exported-box.dae", "crashed"},
+        {"stack-overflow-fbx-recursion.fbx", "crashed"},
+    };
+#if !defined(__SANITIZE_ADDRESS__)  // the child's address-space limit needs a build without ASan's shadow memory
+    cases.push_back({"oom-collada-20-GB-48-s-from-8.8-KB.dae", "in.dae: "});
+#endif
+    fs::create_directories(dir);
+    for (const auto& [file, expected] : cases) {
+        const std::string bytes = readBytes(kRoot / "third-party" / "fuzz_assimp" / file);
+        try {
+            fuzz::loadAssimpInput(dir, bytes);
+            ADD_FAILURE() << file << " loaded";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << file << ": " << e.what();
+        }
+    }
+    // The command line: exit code 2 and one line naming the file.
+    const std::string bytes = readBytes(kRoot / "third-party" / "fuzz_assimp" / "segv-collada-polylist-without-inputs.dae");
+    const fs::path crash = dir / "crash.dae";
+    std::ofstream(crash, std::ios::binary) << bytes.substr(1);  // past the fuzz input's extension byte
+    const auto run = test::runCliArgs({"info", crash.string()});
+    EXPECT_EQ(run.code, 2);
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_NE(run.err.find("crash.dae: Assimp"), std::string::npos) << run.err;
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}

@@ -73,6 +73,36 @@ TEST(Texture, WrapModes) {
     EXPECT_EQ(wrapIndex(-2, 4, WrapMode::Mirror), 1);
 }
 
+// One image, two MTL entries: one clamps it (-clamp on), the other repeats it. Each material keeps its
+// own wrap mode (the image is decoded once; the second mode gets a copy), and a lookup outside [0,1)
+// reads the edge for the first and the wrapped texel for the second; two entries with the same mode
+// share one texture.
+TEST(Texture, OneImageUnderTwoWrapModesKeepsEach) {
+    test::TempDir dir;
+    writeChecker(dir.file("checker.png"), 4, 4, 255, 0);  // 4 x 4 pixels, each its own cell
+    dir.write("m.mtl", "newmtl clamped\nmap_Kd -clamp on checker.png\nnewmtl repeated\nmap_Kd checker.png\n"
+                       "newmtl repeated2\nmap_Kd checker.png\n");
+    dir.write("s.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl clamped\nf 1/1 2/2 3/3\n"
+                       "usemtl repeated\nf 1/1 2/2 3/3\nusemtl repeated2\nf 1/1 2/2 3/3\n");
+    const Scene s = loadObj(dir.file("s.obj"));
+    ASSERT_EQ(s.textures.size(), 2u);
+    const auto& clamped = s.materials[static_cast<std::size_t>(s.findMaterial("clamped"))].textures.diffuse;
+    const auto& repeated = s.materials[static_cast<std::size_t>(s.findMaterial("repeated"))].textures.diffuse;
+    const auto& repeated2 = s.materials[static_cast<std::size_t>(s.findMaterial("repeated2"))].textures.diffuse;
+    ASSERT_NE(clamped.index, repeated.index);
+    EXPECT_EQ(repeated.index, repeated2.index);
+    const Texture& c = s.textures[static_cast<std::size_t>(clamped.index)];
+    const Texture& r = s.textures[static_cast<std::size_t>(repeated.index)];
+    EXPECT_EQ(c.wrapU, WrapMode::Clamp);
+    EXPECT_EQ(r.wrapU, WrapMode::Repeat);
+    // At u = 1.125, v = 0.125 (the bottom row's texel centres, row 3): clamped reads the last column
+    // (x = 3, x + y even: white), repeated the first (x = 0, odd: black).
+    const double clampedValue = c.rgb(1.125, 0.125).x, repeatedValue = r.rgb(1.125, 0.125).x;
+    EXPECT_DOUBLE_EQ(clampedValue, c.rgb(0.875, 0.125).x);   // the edge texel
+    EXPECT_DOUBLE_EQ(repeatedValue, r.rgb(0.125, 0.125).x);  // the first column again
+    EXPECT_NE(clampedValue, repeatedValue);
+}
+
 TEST(Texture, BilinearLookupBetweenTexelCentres) {
     // 2 x 2 grey: top row 0, 1; bottom row 2, 3. Texel centres at u = 1/4, 3/4 and v = 3/4 (top), 1/4.
     Texture t("t", 2, 2, 1, {0, 1, 2, 3});
@@ -254,13 +284,13 @@ TEST(TexturedRender, CorruptTextureIsAnErrorNamingTheFile) {
     }
 }
 
-// glTF: base colour texture, metallic 0, roughness 1: rho_d = texture, rho_s = 0.04, n = 0 (the table
-// in docs/scene-format.md). The same material as an MTL with Kd 1, map_Kd, Ks 0.04, Ns 0; the two
+// glTF: base colour texture, metallic 0, roughness 1: rho_d = 0.96 x texture, rho_s = 0.04, n = 0 (the
+// table in docs/scene-format.md). The same material as an MTL with Kd 0.96, map_Kd, Ks 0.04, Ns 0; the two
 // render the same mean within statistics, from a file, from a data URI and embedded in a .glb.
 TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
     test::TempDir dir;
     writeChecker(dir.file("checker.png"), 64, 8, 180, 60);
-    dir.write("m.mtl", "newmtl checker\nKd 1 1 1\nKs 0.04 0.04 0.04\nNs 0\nmap_Kd checker.png\n");
+    dir.write("m.mtl", "newmtl checker\nKd 0.96 0.96 0.96\nKs 0.04 0.04 0.04\nNs 0\nmap_Kd checker.png\n");
     squareObj(dir, "m.mtl", "checker");
     const Scene obj = loadScene(squareJson(dir, "square.obj", "1"));
     const auto [objMean, objSe] = test::imageMeanAndError(test::renderIndependent(obj, "phong", 32, 32, 5));
@@ -305,10 +335,10 @@ TEST(TexturedRender, GltfBaseColourTextureMatchesTheObjVersion) {
         EXPECT_EQ(tx.model, MaterialTextures::Model::MetallicRoughness);
         EXPECT_EQ(g.textures[0].wrapU, WrapMode::Repeat);
         EXPECT_EQ(g.textures[0].wrapV, WrapMode::Clamp);
-        // At the top-left square's centre: rho_d = the texel, rho_s = 0.04, n = 0.
+        // At the top-left square's centre: rho_d = 0.96 x the texel (1 - F0), rho_s = 0.04, n = 0.
         PhongMaterial scratch;
         const PhongMaterial& at = materialAt(g, g.materials[0], {1.0 / 16, 1.0 - 1.0 / 16}, scratch);
-        EXPECT_NEAR(at.rhoD.x, linear8(180), 1e-6);
+        EXPECT_NEAR(at.rhoD.x, 0.96 * linear8(180), 1e-6);
         EXPECT_NEAR(at.rhoS.x, 0.04, 1e-12);
         EXPECT_NEAR(at.exponent, 0.0, 1e-9);
         const auto [mean, se] = test::imageMeanAndError(test::renderIndependent(g, "phong", 32, 32, 6));

@@ -37,14 +37,15 @@ void checkVarianceOutput(const std::string& path) {
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& o) {
     CLI::App* r = app.add_subcommand("render", "Render a scene to a PNG or OpenEXR image with the path tracer.");
     r->footer(
-        "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), a .gltf, .glb, .ply,\n"
-        ".fbx, .dae or .3ds file (read through Assimp, with its camera and lights), or a .json scene file.\n"
+        "SCENE is 'cornell' (the built-in Cornell box), a Wavefront .obj file (its .mtl beside it), a .ply file, a .gltf,\n"
+        ".glb, .fbx, .dae or .3ds file (read through Assimp, with its camera and lights), or a .json scene file.\n"
         "Texture maps (MTL map_Kd/Ks/Ns/d/Ke; glTF base colour, metallic-roughness, emissive, alpha mask) are read from\n"
         "PNG, JPEG, HDR or EXR; a missing texture file is a warning, a corrupt one an error. A JSON scene's\n"
         "\"environment\": {\"map\": \"sky.hdr\"} lights the scene with a lat-long HDR image (docs/scene-format.md).\n"
         "A mesh or texture that would need more than 3/4 of this machine's memory is refused before it is read.\n"
-        "Known limit: Assimp 5.2 (Debian 12) itself can crash or exhaust memory on some malformed Collada (.dae) and FBX\n"
-        "files, which symphong cannot prevent from outside; the loaders were fuzzed (docs/reliability.md).\n"
+        "Assimp 5.2 (Debian 12) itself can crash or exhaust memory on some malformed Collada (.dae) and FBX files: it\n"
+        "reads each file first in a child process with a memory limit, so such a file is an error (exit code 2) naming\n"
+        "it, not a crash; the loaders were fuzzed (docs/reliability.md). PLY is read by symphong's own reader.\n"
         "PNG output is 8-bit sRGB: linear radiance is multiplied by --exposure, clamped to [0,1], then sRGB-encoded.\n"
         "EXR output is linear RGB, 32-bit float (16-bit half with --exr-half).\n"
         "The same --seed gives the same image, bit for bit, at any --threads, with every sampler.\n"

@@ -118,9 +118,10 @@ bool clampEnergy(Color& rhoD, Color& rhoS) {
     return clamped;
 }
 
-void metallicRoughnessToPhong(const Color& base, double metallic, double roughness, Color& rhoD, Color& rhoS, double& exponent) {
-    rhoD = base * (1.0 - metallic);
-    rhoS = Color(0.04 * (1.0 - metallic)) + base * metallic;
+void metallicRoughnessToPhong(const Color& base, double metallic, double roughness, const Color& f0, Color& rhoD, Color& rhoS,
+                              double& exponent) {
+    rhoD = base * ((1.0 - metallic) * (1.0 - maxComponent(f0)));
+    rhoS = f0 * (1.0 - metallic) + base * metallic;
     const double alpha = std::max(1e-3, roughness * roughness);
     exponent = std::clamp(2.0 / (alpha * alpha) - 2.0, 0.0, 1e4);
 }

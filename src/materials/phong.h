@@ -32,6 +32,7 @@ struct MaterialTextures {
     TextureRef alpha;      ///< cut-out: where its coverage is below 1/2 the surface is a hole
     Color baseColor{1.0};  ///< MetallicRoughness factors
     double metallic = 0, roughness = 1;
+    Color specularF0{0.04};  ///< MetallicRoughness: a dielectric's reflectance at normal incidence (KHR_materials_specular, _ior)
 
     bool any() const {
         return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present() || emission.present() ||
@@ -75,10 +76,13 @@ Color phongDirectionalAlbedo(const PhongMaterial& m, const Vec3& wo);
 bool clampEnergy(Color& rhoD, Color& rhoS);
 
 /// The Phong approximation of a glTF metallic-roughness material (docs/scene-format.md): with base
-/// colour b, metallic m and roughness r, rho_d = b (1 - m), rho_s = 0.04 (1 - m) + b m (F0 = 0.04 for
-/// dielectrics), n = 2 / alpha^2 - 2 with alpha = max(r^2, 10^-3), clamped to [0, 10^4] (a Phong lobe
-/// about as wide as a GGX lobe of that alpha).
-void metallicRoughnessToPhong(const Color& base, double metallic, double roughness, Color& rhoD, Color& rhoS, double& exponent);
+/// colour b, metallic m, roughness r and a dielectric's reflectance F0 at normal incidence (0.04 unless
+/// KHR_materials_specular or KHR_materials_ior say otherwise), rho_s = F0 (1 - m) + b m and
+/// rho_d = b (1 - m) (1 - max(F0)): the dielectric's diffuse part gets what its specular layer does not
+/// reflect, so that a white dielectric reflects 1 in all, not 1 + F0. n = 2 / alpha^2 - 2 with
+/// alpha = max(r^2, 10^-3), clamped to [0, 10^4] (a Phong lobe about as wide as a GGX lobe of that alpha).
+void metallicRoughnessToPhong(const Color& base, double metallic, double roughness, const Color& f0, Color& rhoD, Color& rhoS,
+                              double& exponent);
 
 /// Checks a material's numbers. Throws std::invalid_argument naming the offending value when a number is
 /// not finite or negative; scales rho_d and rho_s down per channel so that rho_d + rho_s <= 1 and

@@ -1,11 +1,14 @@
 // scene/assimp_loader.cpp — mesh formats other than OBJ through Assimp (Debian's libassimp-dev): glTF 2.0,
-// PLY, FBX, Collada, 3DS and the rest Assimp reads. Meshes are triangulated and placed by their nodes'
+// FBX, Collada, 3DS and the rest Assimp reads (PLY has its own reader, ply_loader.cpp), each first in a
+// child process (assimp_guard.h). Meshes are triangulated and placed by their nodes'
 // transforms; materials are mapped to Phong parameters by the table in docs/scene-format.md; the
 // file's first camera and its point, spot and directional lights are kept. Coordinates stay as the
 // file defines them (glTF: y up, metres). Textures (diffuse / base colour, specular, shininess,
 // metallic-roughness, emissive, opacity and glTF's alpha mask), from files beside the model or embedded
 // in it, go through scene/surface.h's texture table.
 #include "scene/scene.h"
+
+#include "scene/assimp_guard.h"
 
 #include "io/files.h"
 #include "io/input_error.h"
@@ -92,7 +95,7 @@ WrapMode wrapMode(int mode) {
 /// The first texture of `type` on material m, from a file beside the model or embedded in it ("*N"),
 /// with its wrap modes; an absent one is a TextureRef without index (a missing file also warns).
 TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType type, TextureEncoding encoding, TextureTable& table,
-                         Scene& scene, const std::string& path, const std::string& materialName) {
+                         const std::string& path, const std::string& materialName) {
     TextureRef ref;
     if (m.GetTextureCount(type) == 0) return ref;
     aiString file;
@@ -121,11 +124,7 @@ TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType t
         if (f.is_relative()) f = std::filesystem::path(path).parent_path() / f;
         ref.index = table.file(f.string(), encoding, where);
     }
-    if (ref.index >= 0) {
-        Texture& t = scene.textures[static_cast<std::size_t>(ref.index)];
-        t.wrapU = wrapMode(modes[0]);
-        t.wrapV = wrapMode(modes[1]);
-    }
+    ref.index = table.withWrap(ref.index, wrapMode(modes[0]), wrapMode(modes[1]));
     return ref;
 }
 
@@ -135,17 +134,15 @@ TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType t
 void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, bool pbr, const aiColor4D& base, float metallic,
                     float roughness, TextureTable& table, Scene& scene, const std::string& path) {
     MaterialTextures& tx = out.textures;
-    const auto tex = [&](aiTextureType type, TextureEncoding enc) { return assimpTexture(ai, m, type, enc, table, scene, path, out.name); };
+    const auto tex = [&](aiTextureType type, TextureEncoding enc) { return assimpTexture(ai, m, type, enc, table, path, out.name); };
     if (pbr) {
         tx.diffuse = tex(aiTextureType_BASE_COLOR, TextureEncoding::Srgb);
         if (!tx.diffuse.present()) tx.diffuse = tex(aiTextureType_DIFFUSE, TextureEncoding::Srgb);
         tx.metallicRoughness = tex(aiTextureType_UNKNOWN, TextureEncoding::Linear);  // glTF: G roughness, B metallic
-        if (tx.diffuse.present() || tx.metallicRoughness.present()) {
-            tx.model = MaterialTextures::Model::MetallicRoughness;
-            tx.baseColor = Color(base.r, base.g, base.b);
-            tx.metallic = metallic;
-            tx.roughness = roughness;
-        }
+        tx.baseColor = Color(base.r, base.g, base.b);
+        tx.metallic = metallic;
+        tx.roughness = roughness;
+        if (tx.diffuse.present() || tx.metallicRoughness.present()) tx.model = MaterialTextures::Model::MetallicRoughness;
         aiString mode;
         if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) != "OPAQUE" && tx.diffuse.present()) {
             tx.alpha = tx.diffuse;
@@ -174,11 +171,66 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
     if (!tx.alpha.present()) tx.alpha = tex(aiTextureType_OPACITY, TextureEncoding::Linear);
 }
 
+/// The value at a JSON pointer, or null when any step of it is missing or of another type.
+nlohmann::json member(const nlohmann::json& j, const std::string& pointer) {
+    try {
+        const nlohmann::json::json_pointer p(pointer);
+        return j.is_object() && j.contains(p) ? j.at(p) : nlohmann::json();
+    } catch (const nlohmann::json::exception&) {
+        return nullptr;
+    }
+}
+
+/// A glTF material's dielectric reflectance at normal incidence: ((ior - 1) / (ior + 1))^2 (0.04 at the
+/// default ior 1.5; KHR_materials_ior), times KHR_materials_specular's specularColorFactor, at most 1,
+/// times its specularFactor. Blender writes specularColorFactor 0 for "Specular 0".
+Color gltfSpecularF0(const nlohmann::json& material) {
+    const auto number = [&](const char* pointer, double fallback) {
+        const nlohmann::json v = member(material, pointer);
+        return v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0 ? v.get<double>() : fallback;
+    };
+    const double ior = number("/extensions/KHR_materials_ior/ior", 1.5);
+    const double r = (ior - 1) / (ior + 1);
+    Color colour(1.0);
+    const nlohmann::json c = member(material, "/extensions/KHR_materials_specular/specularColorFactor");
+    if (c.is_array() && c.size() == 3)
+        for (int k = 0; k < 3; ++k)
+            if (c[static_cast<std::size_t>(k)].is_number() && c[static_cast<std::size_t>(k)].get<double>() >= 0)
+                colour[k] = c[static_cast<std::size_t>(k)].get<double>();
+    const double factor = std::min(number("/extensions/KHR_materials_specular/specularFactor", 1.0), 1.0);
+    Color f0 = colour * (r * r);
+    for (int k = 0; k < 3; ++k) f0[k] = std::min(f0[k], 1.0) * factor;
+    return f0;
+}
+
+/// A material of the Phong family (FBX, Collada, 3DS): diffuse -> rho_d, specular -> rho_s, shininess ->
+/// n, with each format's conventions as Assimp 5.2 hands them over (docs/scene-format.md): FBX's
+/// SpecularFactor (Assimp's shininess strength) scales the specular colour; a Collada <lambert> effect has
+/// no specular part (Assimp gives it its defaults, 0.4 and 10) and a <constant> one only emits.
+void mapPhongMaterial(const aiMaterial& m, const std::string& path, PhongMaterial& out) {
+    aiColor3D c;
+    if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) out.rhoD = toColor(c);
+    if (m.Get(AI_MATKEY_COLOR_SPECULAR, c) == AI_SUCCESS) out.rhoS = toColor(c);
+    float shininess = 0;
+    if (m.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS) out.exponent = std::max(0.0f, shininess);
+    const std::string ext = lowerExtension(path);
+    float strength = 1;
+    if (ext == ".fbx" && m.Get(AI_MATKEY_SHININESS_STRENGTH, strength) == AI_SUCCESS && std::isfinite(strength))
+        out.rhoS *= std::max(0.0, static_cast<double>(strength));
+    int model = 0;
+    if (ext == ".dae" && m.Get(AI_MATKEY_SHADING_MODEL, model) == AI_SUCCESS) {
+        if (model == aiShadingMode_Gouraud) out.rhoS = Color(0.0);  // <lambert>
+        if (model == aiShadingMode_NoShading) out.rhoD = out.rhoS = Color(0.0);  // <constant>: emission only
+    }
+    if (isBlack(out.rhoS)) out.exponent = std::max(out.exponent, 1.0);
+}
+
 /// One material: Phong/Blinn parameters directly (diffuse -> rho_d, specular -> rho_s, shininess -> n,
 /// emissive -> Le); a glTF metallic-roughness material by the stated approximation
-/// (materials/phong.h metallicRoughnessToPhong); emission times KHR_materials_emissive_strength.
-PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, TextureTable& table, Scene& scene,
-                          const std::string& path) {
+/// (materials/phong.h metallicRoughnessToPhong) with its specular extensions (`gltf`: the material's own
+/// JSON, null for other formats); emission times KHR_materials_emissive_strength.
+PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, const nlohmann::json& gltf, TextureTable& table,
+                          Scene& scene, const std::string& path) {
     PhongMaterial out;
     aiString name;
     out.name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0 ? name.C_Str() : fmt::format("material{}", index);
@@ -187,19 +239,19 @@ PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t in
     const bool pbr = m.Get(AI_MATKEY_BASE_COLOR, base) == AI_SUCCESS && m.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS;
     if (pbr) {
         m.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness);
-        metallicRoughnessToPhong(Color(base.r, base.g, base.b), metallic, roughness, out.rhoD, out.rhoS, out.exponent);
+        out.textures.specularF0 = gltf.is_object() ? gltfSpecularF0(gltf) : Color(0.04);
+        metallicRoughnessToPhong(Color(base.r, base.g, base.b), metallic, roughness, out.textures.specularF0, out.rhoD, out.rhoS,
+                                 out.exponent);
     } else {
-        aiColor3D c;
-        if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) out.rhoD = toColor(c);
-        if (m.Get(AI_MATKEY_COLOR_SPECULAR, c) == AI_SUCCESS) out.rhoS = toColor(c);
-        float shininess = 0;
-        if (m.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS) out.exponent = std::max(0.0f, shininess);
-        if (isBlack(out.rhoS)) out.exponent = std::max(out.exponent, 1.0);
+        mapPhongMaterial(m, path, out);
     }
     aiColor3D e;
     if (m.Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) out.emission = toColor(e);
     float strength = 1;
     if (m.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength) == AI_SUCCESS && strength != 1.0f) out.emission *= static_cast<double>(strength);
+    const nlohmann::json gltfStrength = member(gltf, "/extensions/KHR_materials_emissive_strength/emissiveStrength");
+    if (gltfStrength.is_number() && std::isfinite(gltfStrength.get<double>()) && gltfStrength.get<double>() >= 0)
+        out.emission *= gltfStrength.get<double>();
     attachTextures(ai, m, out, pbr, base, metallic, roughness, table, scene, path);
     return out;
 }
@@ -253,16 +305,6 @@ void checkGltfPrimitives(const nlohmann::json& gltf, const std::string& path) {
             if (prim.contains("indices") && !validAccessor(prim["indices"]))
                 throw InputError(fmt::format("{}.indices is not an accessor of the file", where));
         }
-    }
-}
-
-/// The value at a JSON pointer, or null when any step of it is missing or of another type.
-nlohmann::json member(const nlohmann::json& j, const std::string& pointer) {
-    try {
-        const nlohmann::json::json_pointer p(pointer);
-        return j.is_object() && j.contains(p) ? j.at(p) : nlohmann::json();
-    } catch (const nlohmann::json::exception&) {
-        return nullptr;
     }
 }
 
@@ -334,11 +376,13 @@ Camera fileCamera(const aiScene& ai, const std::vector<std::pair<std::string, ai
     camera.target = position + normalize(toVec3(rotation * c.mLookAt));
     camera.up = normalize(toVec3(rotation * c.mUp));
     // aiCamera::mHorizontalFOV is documented as half the horizontal field of view, but Assimp 5.2's FBX
-    // importer stores the file's full FieldOfView there (Assimp 5.3 halves it). The vertical field of
-    // view follows from the half-angle and the aspect ratio.
+    // importer stores the file's full FieldOfView there (Assimp 5.3 halves it), and its Collada importer
+    // the full <xfov> (or the full angle it computes from <yfov> and <aspect_ratio>). The vertical field
+    // of view follows from the half-angle and the aspect ratio.
     const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
     double half = c.mHorizontalFOV;
     if (fbx && (aiGetVersionMajor() < 5 || (aiGetVersionMajor() == 5 && aiGetVersionMinor() < 3))) half *= 0.5;
+    if (lowerExtension(path) == ".dae") half *= 0.5;
     camera.fovY = 2.0 * std::atan(std::tan(half) / aspect) * 180.0 / kPi;
     return camera;
 }
@@ -381,25 +425,21 @@ Scene loadAssimp(const std::string& path) {
     if (!std::filesystem::exists(path)) throw MissingFileError(fmt::format("{}: no such file", path));
     const nlohmann::json gltf = gltfJson(path);
     checkGltfPrimitives(gltf, path);
+    const unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
+                           aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
+    checkAssimpInChild(path, flags);  // a crash or runaway allocation inside Assimp is an InputError
     Assimp::Importer importer;
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
-                                                    aiProcess_ValidateDataStructure | aiProcess_FindInvalidData);
+    const aiScene* ai = importer.ReadFile(path, flags);
     if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
         throw InputError(fmt::format("{}: cannot read it (Assimp: {})", path, importer.GetErrorString()));
 
     Scene scene;
     scene.name = std::filesystem::path(path).stem().string();
     TextureTable table(scene);
-    for (unsigned i = 0; i < ai->mNumMaterials; ++i) scene.materials.push_back(mapMaterial(*ai, *ai->mMaterials[i], i, table, scene, path));
+    for (unsigned i = 0; i < ai->mNumMaterials; ++i)
+        scene.materials.push_back(mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), table, scene, path));
     if (scene.materials.empty()) scene.materials.push_back(PhongMaterial{});
-    if (gltf.is_object() && gltf.contains("materials") && gltf["materials"].is_array())
-        for (std::size_t i = 0; i < gltf["materials"].size() && i < scene.materials.size(); ++i) {
-            const nlohmann::json strength =
-                member(gltf, fmt::format("/materials/{}/extensions/KHR_materials_emissive_strength/emissiveStrength", i));
-            if (strength.is_number() && std::isfinite(strength.get<double>()) && strength.get<double>() >= 0)
-                scene.materials[i].emission *= strength.get<double>();
-        }
 
     const std::vector<std::pair<const aiNode*, aiMatrix4x4>> placed = worldTransforms(ai->mRootNode);
     const std::vector<std::pair<std::string, aiMatrix4x4>> nodes = namedTransforms(placed);

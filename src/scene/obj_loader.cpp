@@ -184,7 +184,7 @@ MtlKeys validateMtl(const std::string& path, const std::string& text) {
 /// A map of the MTL as a TextureRef: the file (relative to the MTL's folder) through the texture table,
 /// its -clamp option as the wrap mode, its -s and -o options as the coordinate map.
 TextureRef mtlTexture(TextureTable& table, const std::string& dir, const std::string& name, const tinyobj::texture_option_t& opt,
-                      TextureEncoding encoding, const std::string& where, Scene& scene) {
+                      TextureEncoding encoding, const std::string& where) {
     TextureRef ref;
     if (name.empty()) return ref;
     std::filesystem::path file = name;
@@ -194,8 +194,8 @@ TextureRef mtlTexture(TextureTable& table, const std::string& dir, const std::st
     ref.scaleU = opt.scale[0], ref.scaleV = opt.scale[1], ref.offsetU = opt.origin_offset[0], ref.offsetV = opt.origin_offset[1];
     if (!std::isfinite(ref.scaleU) || !std::isfinite(ref.scaleV) || !std::isfinite(ref.offsetU) || !std::isfinite(ref.offsetV))
         throw InputError(fmt::format("{}: texture '{}': its -s or -o option is not finite", where, name));
-    Texture& t = scene.textures[static_cast<std::size_t>(ref.index)];
-    t.wrapU = t.wrapV = opt.clamp ? WrapMode::Clamp : WrapMode::Repeat;
+    const WrapMode wrap = opt.clamp ? WrapMode::Clamp : WrapMode::Repeat;
+    ref.index = table.withWrap(ref.index, wrap, wrap);
     return ref;
 }
 
@@ -235,12 +235,12 @@ PhongMaterial objMaterial(const tinyobj::material_t& mt, const MtlMaterial& stat
         return it == keys.end() ? fmt::format("{}: material '{}'", mtlFile, m.name) : fmt::format("{}:{}", mtlFile, it->second);
     };
     MaterialTextures& tx = m.textures;
-    tx.diffuse = mtlTexture(table, mtlDir, mt.diffuse_texname, mt.diffuse_texopt, TextureEncoding::Srgb, where("map_Kd"), scene);
-    tx.specular = mtlTexture(table, mtlDir, mt.specular_texname, mt.specular_texopt, TextureEncoding::Srgb, where("map_Ks"), scene);
+    tx.diffuse = mtlTexture(table, mtlDir, mt.diffuse_texname, mt.diffuse_texopt, TextureEncoding::Srgb, where("map_Kd"));
+    tx.specular = mtlTexture(table, mtlDir, mt.specular_texname, mt.specular_texopt, TextureEncoding::Srgb, where("map_Ks"));
     tx.exponent = mtlTexture(table, mtlDir, mt.specular_highlight_texname, mt.specular_highlight_texopt, TextureEncoding::Linear,
-                             where("map_Ns"), scene);
-    tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"), scene);
-    tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"), scene);
+                             where("map_Ns"));
+    tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"));
+    tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"));
     for (const auto& [key, file] :
          {std::pair{"bump", mt.bump_texname}, std::pair{"norm", mt.normal_texname}, std::pair{"disp", mt.displacement_texname},
           std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})

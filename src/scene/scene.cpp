@@ -139,7 +139,7 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
 
 bool isAssimpExtension(const std::string& path) {
     const std::string ext = lowerExtension(path);
-    for (const char* e : {".gltf", ".glb", ".ply", ".fbx", ".dae", ".3ds"})
+    for (const char* e : {".gltf", ".glb", ".fbx", ".dae", ".3ds"})
         if (ext == e) return true;
     return false;
 }
@@ -159,6 +159,11 @@ Scene loadSceneUnguarded(const std::string& spec) {
         return s;
     }
     if (ext == ".json") return loadJsonScene(spec);
+    if (ext == ".ply") {
+        Scene s = loadPly(spec);
+        finalizeScene(s, spec, false);
+        return s;
+    }
     if (isAssimpExtension(spec)) {
         Scene s = loadAssimp(spec);
         finalizeScene(s, spec, false);

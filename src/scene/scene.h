@@ -88,6 +88,9 @@ Scene loadObj(const std::string& path);
 /// Collada (.dae), 3DS (scene/assimp_loader.cpp). Its first camera and its lights are kept.
 Scene loadAssimp(const std::string& path);
 
+/// A PLY file (ASCII or binary; faces and triangle strips) by our own reader (scene/ply_loader.cpp):
+/// Assimp 5.2 reads one triangle of a mesh stored as strips.
+Scene loadPly(const std::string& path);
 /// Whether a file name's extension is one loadScene reads through Assimp.
 bool isAssimpExtension(const std::string& path);
 

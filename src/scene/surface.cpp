@@ -58,7 +58,7 @@ const PhongMaterial& materialAt(const Scene& scene, const PhongMaterial& m, cons
             roughness *= channelAt(scene, tx.metallicRoughness, uv, 1);  // G
             metallic *= channelAt(scene, tx.metallicRoughness, uv, 2);   // B
         }
-        metallicRoughnessToPhong(base, std::clamp(metallic, 0.0, 1.0), roughness, out.rhoD, out.rhoS, out.exponent);
+        metallicRoughnessToPhong(base, std::clamp(metallic, 0.0, 1.0), roughness, tx.specularF0, out.rhoD, out.rhoS, out.exponent);
     } else {
         out.rhoD = tx.diffuse.present() ? m.rhoD * rgbAt(scene, tx.diffuse, uv) : m.rhoD;
         out.rhoS = tx.specular.present() ? m.rhoS * rgbAt(scene, tx.specular, uv) : m.rhoS;
@@ -88,6 +88,23 @@ std::int32_t TextureTable::add(const std::string& key, TextureEncoding encoding,
     const auto index = static_cast<std::int32_t>(scene_.textures.size() - 1);
     loaded_[k] = index;
     return index;
+}
+
+std::int32_t TextureTable::withWrap(std::int32_t index, WrapMode u, WrapMode v) {
+    if (index < 0) return index;
+    const auto key = std::make_tuple(index, static_cast<int>(u), static_cast<int>(v));
+    if (const auto it = wrapped_.find(key); it != wrapped_.end()) return it->second;
+    std::int32_t out = index;
+    if (!wrapSet_.insert(index).second) {  // another material already wraps this image its own way
+        Texture copy = scene_.textures[static_cast<std::size_t>(index)];
+        scene_.textures.push_back(std::move(copy));
+        out = static_cast<std::int32_t>(scene_.textures.size() - 1);
+    }
+    Texture& t = scene_.textures[static_cast<std::size_t>(out)];
+    t.wrapU = u;
+    t.wrapV = v;
+    wrapped_[key] = out;
+    return out;
 }
 
 std::int32_t TextureTable::file(const std::string& path, TextureEncoding encoding, const std::string& where) {

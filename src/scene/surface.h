@@ -8,6 +8,8 @@
 
 #include <functional>
 #include <map>
+#include <set>
+#include <tuple>
 #include <string>
 #include <utility>
 
@@ -42,10 +44,16 @@ public:
     /// Adds an already decoded texture under a key (embedded images of a glTF binary); the same key
     /// returns the same index.
     std::int32_t add(const std::string& key, TextureEncoding encoding, const std::function<Texture()>& decode);
+    /// The texture `index` sampled with these wrap modes: the same index for the first material that uses
+    /// it (or any with the same modes), a copy of the decoded image for a material that wraps it otherwise
+    /// (one image file, two MTL entries, one with -clamp on). -1 stays -1.
+    std::int32_t withWrap(std::int32_t index, WrapMode u, WrapMode v);
 
 private:
     Scene& scene_;
     std::map<std::pair<std::string, int>, std::int32_t> loaded_;
+    std::map<std::tuple<std::int32_t, int, int>, std::int32_t> wrapped_;  ///< (image, u, v) -> texture with those modes
+    std::set<std::int32_t> wrapSet_;                                      ///< images whose own modes a material has set
 };
 
 }  // namespace symphong
