@@ -9,6 +9,7 @@
 #include "scene/scene.h"
 
 #include "scene/assimp_guard.h"
+#include "scene/exporter_conventions.h"
 
 #include "io/files.h"
 #include "io/input_error.h"
@@ -206,8 +207,9 @@ Color gltfSpecularF0(const nlohmann::json& material) {
 /// A material of the Phong family (FBX, Collada, 3DS): diffuse -> rho_d, specular -> rho_s, shininess ->
 /// n, with each format's conventions as Assimp 5.2 hands them over (docs/scene-format.md): FBX's
 /// SpecularFactor (Assimp's shininess strength) scales the specular colour; a Collada <lambert> effect has
-/// no specular part (Assimp gives it its defaults, 0.4 and 10) and a <constant> one only emits.
-void mapPhongMaterial(const aiMaterial& m, const std::string& path, PhongMaterial& out) {
+/// no specular part (Assimp gives it its defaults, 0.4 and 10) and a <constant> one only emits. An FBX
+/// that Blender wrote (`blender`) holds its Principled numbers in Blender's own way (exporter_conventions.h).
+void mapPhongMaterial(const aiMaterial& m, const std::string& path, bool blender, PhongMaterial& out) {
     aiColor3D c;
     if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) out.rhoD = toColor(c);
     if (m.Get(AI_MATKEY_COLOR_SPECULAR, c) == AI_SUCCESS) out.rhoS = toColor(c);
@@ -215,6 +217,14 @@ void mapPhongMaterial(const aiMaterial& m, const std::string& path, PhongMateria
     if (m.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS) out.exponent = std::max(0.0f, shininess);
     const std::string ext = lowerExtension(path);
     float strength = 1;
+    if (ext == ".fbx" && blender) {  // Blender's Principled numbers (scene/exporter_conventions.h)
+        float factor = 0, metallic = 0;
+        m.Get(AI_MATKEY_SHININESS_STRENGTH, factor);  // SpecularFactor = Specular / 2
+        m.Get(AI_MATKEY_REFLECTIVITY, metallic);      // ReflectionFactor = Metallic
+        const double roughness = 1.0 - std::sqrt(std::max(0.0, static_cast<double>(shininess))) / 10.0;
+        blenderPrincipledToPhong(out.rhoD, metallic, 2.0 * factor, roughness, out.rhoD, out.rhoS, out.exponent);
+        return;
+    }
     if (ext == ".fbx" && m.Get(AI_MATKEY_SHININESS_STRENGTH, strength) == AI_SUCCESS && std::isfinite(strength))
         out.rhoS *= std::max(0.0, static_cast<double>(strength));
     int model = 0;
@@ -229,8 +239,8 @@ void mapPhongMaterial(const aiMaterial& m, const std::string& path, PhongMateria
 /// emissive -> Le); a glTF metallic-roughness material by the stated approximation
 /// (materials/phong.h metallicRoughnessToPhong) with its specular extensions (`gltf`: the material's own
 /// JSON, null for other formats); emission times KHR_materials_emissive_strength.
-PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, const nlohmann::json& gltf, TextureTable& table,
-                          Scene& scene, const std::string& path) {
+PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, const nlohmann::json& gltf, bool blender,
+                          TextureTable& table, Scene& scene, const std::string& path) {
     PhongMaterial out;
     aiString name;
     out.name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0 ? name.C_Str() : fmt::format("material{}", index);
@@ -243,7 +253,7 @@ PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t in
         metallicRoughnessToPhong(Color(base.r, base.g, base.b), metallic, roughness, out.textures.specularF0, out.rhoD, out.rhoS,
                                  out.exponent);
     } else {
-        mapPhongMaterial(m, path, out);
+        mapPhongMaterial(m, path, blender, out);
     }
     aiColor3D e;
     if (m.Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) out.emission = toColor(e);
@@ -437,8 +447,10 @@ Scene loadAssimp(const std::string& path) {
     Scene scene;
     scene.name = std::filesystem::path(path).stem().string();
     TextureTable table(scene);
+    const bool blender = writtenByBlender(path);
     for (unsigned i = 0; i < ai->mNumMaterials; ++i)
-        scene.materials.push_back(mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), table, scene, path));
+        scene.materials.push_back(
+            mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), blender, table, scene, path));
     if (scene.materials.empty()) scene.materials.push_back(PhongMaterial{});
 
     const std::vector<std::pair<const aiNode*, aiMatrix4x4>> placed = worldTransforms(ai->mRootNode);

@@ -7,6 +7,8 @@
 #include "io/input_error.h"
 #include "io/memory.h"
 #include "scene/scene.h"
+
+#include "scene/exporter_conventions.h"
 #include "scene/surface.h"
 
 #include <fmt/format.h>
@@ -85,6 +87,7 @@ struct ObjScan {
 struct MtlMaterial {
     std::string file;
     std::map<std::string, int> keys;
+    bool blender = false;  ///< the MTL is Blender's (scene/exporter_conventions.h)
 };
 using MtlKeys = std::map<std::string, MtlMaterial>;
 
@@ -177,7 +180,8 @@ MtlKeys validateMtl(const std::string& path, const std::string& text) {
             if (value < 0) throw InputError(fmt::format("{}:{}: {} value {} is negative", path, line, key, w[i]));
         }
     });
-    for (auto& [name, material] : keys) material.file = path;
+    const bool blender = text.rfind("# Blender", 0) == 0;  // Blender's MTL opens with its own comment
+    for (auto& [name, material] : keys) material.file = path, material.blender = blender;
     return keys;
 }
 
@@ -251,6 +255,11 @@ PhongMaterial objMaterial(const tinyobj::material_t& mt, const MtlMaterial& stat
     if (tx.specular.present() && !keys.count("Ks")) m.rhoS = Color(1.0);
     if (tx.exponent.present() && !keys.count("Ns")) m.exponent = 1000;
     if (tx.emission.present() && !keys.count("Ke")) m.emission = Color(1.0);
+    if (stated.blender && !tx.specular.present() && !tx.exponent.present()) {
+        // Blender's MTL: Ks = its Specular, Ns = (1 - Roughness)^2 x 1000, Pm = Metallic (scene/exporter_conventions.h).
+        const double roughness = 1.0 - std::sqrt(std::clamp(mt.shininess / 1000.0, 0.0, 1.0));
+        blenderPrincipledToPhong(m.rhoD, mt.metallic, mt.specular[0], roughness, m.rhoD, m.rhoS, m.exponent);
+    }
     return m;
 }
 

@@ -147,9 +147,17 @@ resume-kill)
   RANDOM=4242
   for attempt in 1 2 3 4; do
     np=$((attempt % 2 + 2))
+    before=$(stat -c "%i %y" "$work/c.ckpt" 2>/dev/null || echo none)
     setsid "${launch[@]}" -np "$np" "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" &
     pid=$!
-    sleep "0.$(printf '%03d' $((300 + RANDOM % 600)))"
+    # Kill at a pseudo-random moment after this job has written a checkpoint of its own (a fixed delay from
+    # the launch missed every checkpoint on a loaded machine, where starting mpiexec takes over a second).
+    for _ in $(seq 1 6000); do
+      [ "$(stat -c "%i %y" "$work/c.ckpt" 2>/dev/null || echo none)" != "$before" ] && break
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.01
+    done
+    sleep "0.$(printf '%03d' $((RANDOM % 400)))"
     kill -9 -- "-$pid" 2>/dev/null || true
     wait "$pid" 2>/dev/null || true
     # No rank of the killed job may live on (it would write the checkpoint under the next one).
