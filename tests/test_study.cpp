@@ -480,6 +480,7 @@ TEST(Study, CancellingKeepsTheFinishedRows) {
     const std::string csv = readAll(dir / "results.csv");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2);
     EXPECT_NE(readAll(dir / "report.md").find("Interrupted"), std::string::npos);
+    EXPECT_FALSE(fs::exists(dir / "report.html")) << "written only when the study finishes";
     fs::remove_all(dir);
 }
 

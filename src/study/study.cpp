@@ -129,7 +129,13 @@ public:
                               heatSpp_, outcome.cancelled, processes_};
         writeFile((dir_ / "report.md").string(), reportMarkdown(in));
         writeFile((dir_ / "details.md").string(), reportDetailsMarkdown(in));
-        writeFile((dir_ / "report.html").string(), reportHtml(reportHtmlData(in, dir_)));
+        // Not when interrupted: its FLIP maps take seconds that a job stopped by its launcher does not have
+        // (mpirun kills the ranks a second after SIGTERM); the resumed study writes it.
+        std::error_code ec;
+        if (outcome.cancelled)
+            fs::remove(dir_ / "report.html", ec);  // an earlier run's page would not match these rows
+        else
+            writeFile((dir_ / "report.html").string(), reportHtml(reportHtmlData(in, dir_)));
     }
 
 private:
