@@ -13,9 +13,12 @@ namespace symphong {
 
 namespace {
 
+/// The median, by partial ordering (the bootstrap takes thousands of them).
 double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+    const std::size_t half = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(half), v.end());
+    if (v.size() % 2) return v[half];
+    return 0.5 * (*std::max_element(v.begin(), v.begin() + static_cast<long>(half)) + v[half]);
 }
 
 /// A measure of one render, by name.
@@ -49,12 +52,13 @@ const StudySummary* mostEfficient(const std::vector<StudySummary>& summary, std:
 }
 
 /// "`a` ... F [lo, hi] ..." for the ratio of a's repeats of measure m to b's.
-std::string ratioText(const std::vector<StudyRow>& rows, const StudySummary& a, const StudySummary& b, Measure m, std::uint64_t seed) {
-    const auto r = bootstrapRatio(repeatsOf(rows, a.variant, a.spp, m), repeatsOf(rows, b.variant, b.spp, m), seed);
+std::string ratioText(const std::vector<StudyRow>& rows, const StudySummary& a, const StudySummary& b, Measure m, std::uint64_t seed,
+                      int draws) {
+    const auto r = bootstrapRatio(repeatsOf(rows, a.variant, a.spp, m), repeatsOf(rows, b.variant, b.spp, m), seed, draws);
     return r ? intervalText(*r) : "-";
 }
 
-std::string mostEfficientLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, bool rel) {
+std::string mostEfficientLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, bool rel, int draws) {
     const std::uint32_t top = topSpp(summary);
     double StudySummary::*eff = rel ? &StudySummary::efficiencyRel : &StudySummary::efficiency;
     const Measure m = rel ? &StudyRow::efficiencyRel : &StudyRow::efficiency;
@@ -62,14 +66,14 @@ std::string mostEfficientLine(const std::vector<StudyRow>& rows, const std::vect
     if (!best) return {};
     std::string line = fmt::format("**Most efficient by {}** at {} spp: `{}`", rel ? "relMSE" : "MSE", top, best->variant);
     const StudySummary* second = mostEfficient(summary, top, eff, [&](const StudySummary& s) { return &s != best; });
-    if (second) line += fmt::format(", {} the efficiency of the next, `{}`", ratioText(rows, *best, *second, m, 11), second->variant);
+    if (second) line += fmt::format(", {} the efficiency of the next, `{}`", ratioText(rows, *best, *second, m, 11, draws), second->variant);
     const StudySummary* yard = sameSampler(summary, std::string(yardstickEstimator()), *best);
     if (yard && yard != best && yard != second)
-        line += fmt::format(", {} that of `{}`", ratioText(rows, *best, *yard, m, 12), yard->variant);
+        line += fmt::format(", {} that of `{}`", ratioText(rows, *best, *yard, m, 12, draws), yard->variant);
     return line + ".";
 }
 
-std::string paysLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary) {
+std::string paysLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, int draws) {
     const std::uint32_t top = topSpp(summary);
     const StudySummary* cand =
         mostEfficient(summary, top, &StudySummary::efficiency, [](const StudySummary& s) { return roleOf(s.estimator) == EstimatorRole::Candidate; });
@@ -77,14 +81,14 @@ std::string paysLine(const std::vector<StudyRow>& rows, const std::vector<StudyS
         mostEfficient(summary, top, &StudySummary::efficiency, [](const StudySummary& s) { return roleOf(s.estimator) == EstimatorRole::Baseline; });
     if (!cand || !base) return "**Does symmetric sampling pay?** This study has no unbiased symmetric variant or no baseline to answer it.";
     const auto r = bootstrapRatio(repeatsOf(rows, cand->variant, top, &StudyRow::efficiency),
-                                  repeatsOf(rows, base->variant, top, &StudyRow::efficiency), 13);
+                                  repeatsOf(rows, base->variant, top, &StudyRow::efficiency), 13, draws);
     if (!r) return {};
     const char* verdict = r->lo > 1 ? "Yes" : r->hi < 1 ? "No" : r->lo == r->hi ? "Undecided (one repeat, no interval)"
                                                                                  : "Not resolved at 95%";
     return fmt::format(
         "**Does symmetric sampling pay?** {}: the most efficient symmetric variant, `{}`, reaches {} the efficiency of the best "
         "baseline, `{}`, by MSE ({} by relMSE).",
-        verdict, cand->variant, intervalText(*r), base->variant, ratioText(rows, *cand, *base, &StudyRow::efficiencyRel, 14));
+        verdict, cand->variant, intervalText(*r), base->variant, ratioText(rows, *cand, *base, &StudyRow::efficiencyRel, 14, draws));
 }
 
 std::string lowestRmseLine(const std::vector<StudySummary>& summary, const std::vector<std::uint32_t>& spps) {
@@ -112,7 +116,7 @@ std::optional<RatioInterval> bootstrapRatio(const std::vector<double>& a, const 
     if (a.empty() || b.empty() || !(median(b) > 0)) return std::nullopt;
     RatioInterval r;
     r.point = median(a) / median(b);
-    if (a.size() < 2 && b.size() < 2) {
+    if ((a.size() < 2 && b.size() < 2) || draws <= 0) {
         r.lo = r.hi = r.point;
         return r;
     }
@@ -136,19 +140,25 @@ std::string intervalText(const RatioInterval& r) {
     return fmt::format("{} [{:.2g}, {:.2g}]", factor(r.point), r.lo, r.hi);
 }
 
-std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary) {
+std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
+                                     int draws) {
     if (summary.empty()) return {"No results."};
     std::vector<std::string> lines;
-    for (const std::string& l : {mostEfficientLine(rows, summary, false), mostEfficientLine(rows, summary, true), paysLine(rows, summary),
+    for (const std::string& l : {mostEfficientLine(rows, summary, false, draws), mostEfficientLine(rows, summary, true, draws),
+                                 paysLine(rows, summary, draws),
                                  lowestRmseLine(summary, c.spps), biasLine(summary)})
         if (!l.empty()) lines.push_back(l);
-    lines.push_back(c.repeats > 1 ? fmt::format("Factors are ratios of medians over {} repeats; [a, b] is the 95% bootstrap interval.",
-                                                c.repeats)
-                                  : "One repeat per variant: factors without intervals (run with --repeats 5 or more for them).");
+    if (draws <= 0)
+        lines.push_back("Factors are ratios of medians over the repeats, without intervals (an interrupted study's report).");
+    else if (c.repeats > 1)
+        lines.push_back(fmt::format("Factors are ratios of medians over {} repeats; [a, b] is the 95% bootstrap interval.", c.repeats));
+    else
+        lines.push_back("One repeat per variant: factors without intervals (run with --repeats 5 or more for them).");
     return lines;
 }
 
-std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary) {
+std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
+                                     int draws) {
     std::vector<ReportTable> tables;
     std::vector<std::string> columns = {"variant"};
     for (std::uint32_t spp : c.spps) columns.push_back(fmt::format("{} spp", spp));
@@ -167,7 +177,7 @@ std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<Stu
                 for (const auto& x : summary)
                     if (x.variant == v.label && x.spp == spp) s = &x;
                 const StudySummary* y = s ? sameSampler(summary, yard, *s) : nullptr;
-                const auto r = s && y ? bootstrapRatio(repeatsOf(rows, s->variant, spp, m), repeatsOf(rows, y->variant, spp, m), 21 + spp)
+                const auto r = s && y ? bootstrapRatio(repeatsOf(rows, s->variant, spp, m), repeatsOf(rows, y->variant, spp, m), 21 + spp, draws)
                                       : std::nullopt;
                 row.push_back(r ? ReportCell{s == y ? std::string("1x") : intervalText(*r), r->point} : ReportCell{"-", {}});
             }
@@ -179,7 +189,7 @@ std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<Stu
     for (const StudyVariant& v : studyVariants(c)) {
         std::vector<ReportCell> row = {{fmt::format("`{}`", v.label), {}}};
         for (std::uint32_t spp : c.spps) {
-            const auto r = bootstrapRatio(repeatsOf(rows, v.label, spp, &StudyRow::rmse), {1.0}, 31 + spp);
+            const auto r = bootstrapRatio(repeatsOf(rows, v.label, spp, &StudyRow::rmse), {1.0}, 31 + spp, draws);
             row.push_back(r ? ReportCell{r->lo == r->hi ? fmt::format("{:.3g}", r->point)
                                                         : fmt::format("{:.3g} [{:.3g}, {:.3g}]", r->point, r->lo, r->hi),
                                          r->point}

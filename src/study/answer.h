@@ -20,7 +20,8 @@ struct RatioInterval {
 
 /// median(a) / median(b) and the 2.5 and 97.5 percentiles of the same ratio over `draws` resamplings of a
 /// and of b, each drawn with replacement from its own values (a fixed `seed`: the same interval every
-/// time). Empty input or a median of b that is not > 0: nothing.
+/// time). Empty input or a median of b that is not > 0: nothing. No interval (lo = hi = the point) with
+/// one value on each side or no draws.
 std::optional<RatioInterval> bootstrapRatio(const std::vector<double>& a, const std::vector<double>& b, std::uint64_t seed,
                                             int draws = 4000);
 
@@ -38,12 +39,18 @@ struct ReportTable {
     std::vector<std::vector<ReportCell>> rows;
 };
 
+/// The bootstrap's resamplings per interval in the report; an interrupted study's report has none (its
+/// intervals took seconds under a sanitizer, more than a job stopped by its launcher has).
+inline constexpr int kReportDraws = 4000;
+
 /// The answer: at most ten lines of Markdown (each a bullet's text, without "- ").
-std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary);
+std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
+                                     int draws = kReportDraws);
 
 /// The tables: efficiency by MSE and by relMSE relative to the yardstick under the same sampler, and the
 /// RMSE, each variant x spp with its interval.
-std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary);
+std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
+                                     int draws = kReportDraws);
 
 /// A table as Markdown (its title as a level-2 heading, its note, then the table).
 std::string tableMarkdown(const ReportTable& t);
