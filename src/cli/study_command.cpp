@@ -1,7 +1,6 @@
 // `symphong study`: options from studySchema() (study/config.h); the study shared among MPI ranks
 // (distrib/study.h), Ctrl-C keeping the finished rows, the conclusion and the report's path.
 #include "cli/commands.h"
-#include "study/answer.h"
 #include "cli/interrupts.h"
 #include "cli/schema_cli.h"
 #include "distrib/mpi_job.h"
@@ -46,7 +45,7 @@ int runStudyCommand(StudyOptions& o, const MpiJob& job) {
                    o.config.outDir);
         return 130;
     }
-    for (std::string line : studyAnswer(o.config, outcome.rows, outcome.summary)) {
+    for (std::string line : outcome.answer) {
         for (std::size_t p = line.find("**"); p != std::string::npos; p = line.find("**", p)) line.erase(p, 2);
         fmt::print("- {}\n", line);
     }

@@ -184,6 +184,12 @@ Comparison compareImages(const Image& test, const Image& reference, const Image*
 
 Comparison compareLoaded(const Image& test, const Image& reference, const Image* variance, bool bothLowDynamicRange,
                          const CompareOptions& o) {
+    if (test.width != reference.width || test.height != reference.height)
+        throw InputError(fmt::format("{} is {} x {} but the reference {} is {} x {}", o.test, test.width, test.height, o.reference,
+                                     reference.width, reference.height));
+    if (variance && (variance->width != reference.width || variance->height != reference.height))
+        throw InputError(fmt::format("--variance {} is {} x {}, the images {} x {}", o.variance, variance->width, variance->height,
+                                     reference.width, reference.height));
     // Check the outputs before the work, so that a bad path fails now.
     if (!o.errorMap.empty()) checkErrorMapPath(o.errorMap, "--error-map");
     if (!o.flipMap.empty()) checkErrorMapPath(o.flipMap, "--flip-map");
@@ -205,16 +211,8 @@ Comparison compareLoaded(const Image& test, const Image& reference, const Image*
 Comparison runComparison(const CompareOptions& o) {
     const ImageFile test = readImageFile(o.test);
     const ImageFile ref = readImageFile(o.reference);
-    if (test.image.width != ref.image.width || test.image.height != ref.image.height)
-        throw InputError(fmt::format("{} is {} x {} but the reference {} is {} x {}", o.test, test.image.width, test.image.height,
-                                     o.reference, ref.image.width, ref.image.height));
     std::optional<Image> variance;
-    if (!o.variance.empty()) {
-        variance = readImageFile(o.variance).image;
-        if (variance->width != ref.image.width || variance->height != ref.image.height)
-            throw InputError(fmt::format("--variance {} is {} x {}, the images {} x {}", o.variance, variance->width, variance->height,
-                                         ref.image.width, ref.image.height));
-    }
+    if (!o.variance.empty()) variance = readImageFile(o.variance).image;
     return compareLoaded(test.image, ref.image, variance ? &*variance : nullptr, test.lowDynamicRange && ref.lowDynamicRange, o);
 }
 

@@ -66,7 +66,8 @@ Comparison compareImages(const Image& test, const Image& reference, const Image*
                          const std::string& flipKind, double pixelsPerDegree);
 
 /// compareImages with --regions, --flip (auto: LDR-FLIP when both images were 8-bit files) and the maps
-/// written; the output paths are checked before any work.
+/// written; sizes are checked first (InputError naming o.test, o.reference, o.variance), then the
+/// output paths, before any work.
 Comparison compareLoaded(const Image& test, const Image& reference, const Image* variance, bool bothLowDynamicRange,
                          const CompareOptions& o);
 

@@ -63,12 +63,6 @@ py::object comparePy(const py::object& test, const py::object& reference, const 
     pyschema::applyKwargs(o, compareSchema(), kwargs, "compare");
     const ImageFile t = imageArgument(test, "test", o.test);
     const ImageFile r = imageArgument(reference, "reference", o.reference);
-    if (t.image.width != r.image.width || t.image.height != r.image.height)
-        throw InputError(fmt::format("{} is {} x {} but the reference {} is {} x {}", o.test, t.image.width, t.image.height, o.reference,
-                                     r.image.width, r.image.height));
-    if (variance && (variance->image.width != r.image.width || variance->image.height != r.image.height))
-        throw InputError(fmt::format("variance {} is {} x {}, the images {} x {}", o.variance, variance->image.width,
-                                     variance->image.height, r.image.width, r.image.height));
     Comparison c;
     {
         py::gil_scoped_release release;

@@ -12,6 +12,7 @@
 #include "io/memory.h"
 #include "scene/scene.h"
 
+#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 #include <assimp/Importer.hpp>
@@ -43,7 +44,7 @@ constexpr bool kAddressSanitizer = false;
 #endif
 
 /// The child: Assimp's error message (when it refuses the file) goes to `fd`, the outcome to the exit code.
-[[noreturn]] void childRead(const std::string& path, unsigned flags, std::uint64_t limit, int fd) {
+[[noreturn]] void childRead(const std::string& path, std::uint64_t limit, int fd) {
     if (!kAddressSanitizer) {
         const rlimit r{static_cast<rlim_t>(limit), static_cast<rlim_t>(limit)};
         setrlimit(RLIMIT_AS, &r);
@@ -53,9 +54,7 @@ constexpr bool kAddressSanitizer = false;
     int code = kRead;
     try {
         Assimp::Importer importer;
-        importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-        const aiScene* ai = importer.ReadFile(path, flags);
-        if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+        if (!importWithAssimp(importer, path)) {
             code = kAssimpRefused;
             const std::string message = importer.GetErrorString();
             for (std::size_t done = 0; done < message.size();) {
@@ -92,7 +91,14 @@ std::uint64_t assimpChildMemoryLimit(std::uint64_t fileBytes) {
     return std::min(wanted, memoryBudgetBytes());
 }
 
-void checkAssimpInChild(const std::string& path, unsigned flags) {
+const aiScene* importWithAssimp(Assimp::Importer& importer, const std::string& path) {
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
+                                                    aiProcess_ValidateDataStructure | aiProcess_FindInvalidData);
+    return ai && ai->mRootNode && !(ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) ? ai : nullptr;
+}
+
+void checkAssimpInChild(const std::string& path) {
     if (const char* env = std::getenv("SYMPHONG_ASSIMP_IN_PROCESS"); env && std::string(env) == "1") return;
     std::error_code ec;
     const std::uint64_t limit = assimpChildMemoryLimit(std::filesystem::file_size(path, ec));
@@ -105,7 +111,7 @@ void checkAssimpInChild(const std::string& path, unsigned flags) {
     }
     if (pid == 0) {
         close(fds[0]);
-        childRead(path, flags, limit, fds[1]);
+        childRead(path, limit, fds[1]);
     }
     close(fds[1]);
     const std::string message = readAll(fds[0]);

@@ -435,19 +435,16 @@ Scene loadAssimp(const std::string& path) {
     if (!std::filesystem::exists(path)) throw MissingFileError(fmt::format("{}: no such file", path));
     const nlohmann::json gltf = gltfJson(path);
     checkGltfPrimitives(gltf, path);
-    const unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
-                           aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
-    checkAssimpInChild(path, flags);  // a crash or runaway allocation inside Assimp is an InputError
+    checkAssimpInChild(path);  // a crash or runaway allocation inside Assimp is an InputError
     Assimp::Importer importer;
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const aiScene* ai = importer.ReadFile(path, flags);
-    if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
+    const aiScene* ai = importWithAssimp(importer, path);
+    if (!ai)
         throw InputError(fmt::format("{}: cannot read it (Assimp: {})", path, importer.GetErrorString()));
 
     Scene scene;
     scene.name = std::filesystem::path(path).stem().string();
     TextureTable table(scene);
-    const bool blender = writtenByBlender(path);
+    const bool blender = lowerExtension(path) == ".fbx" && fbxWrittenByBlender(path);
     for (unsigned i = 0; i < ai->mNumMaterials; ++i)
         scene.materials.push_back(
             mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), blender, table, scene, path));

@@ -6,13 +6,14 @@
 
 namespace symphong {
 
-bool writtenByBlender(const std::string& path) {
+bool mtlWrittenByBlender(const std::string& text) { return text.rfind("# Blender", 0) == 0; }
+
+bool fbxWrittenByBlender(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return false;
     std::string head(64 * 1024, '\0');  // an FBX names its creator in its header extension, near the start
     in.read(head.data(), static_cast<std::streamsize>(head.size()));
     head.resize(static_cast<std::size_t>(in.gcount()));
-    if (head.rfind("# Blender", 0) == 0) return true;  // Blender's MTL (and OBJ) files open with this comment
     const bool fbx = head.rfind("Kaydara FBX Binary", 0) == 0 || head.find("FBXHeaderExtension") != std::string::npos;
     return fbx && (head.find("Blender (stable FBX IO)") != std::string::npos || head.find("Creator: \"Blender") != std::string::npos);
 }

@@ -13,9 +13,10 @@
 
 namespace symphong {
 
-/// Whether Blender wrote this file: an MTL whose first line is Blender's comment ("# Blender 3.4.1 MTL
-/// File: ..."), or an FBX that names Blender as its creator in its header (binary or ASCII).
-bool writtenByBlender(const std::string& path);
+/// Whether Blender wrote this FBX file: its header (binary or ASCII) names Blender as its creator.
+bool fbxWrittenByBlender(const std::string& path);
+/// Whether Blender wrote this MTL text: its first line is Blender's comment ("# Blender 3.4.1 MTL File: ...").
+bool mtlWrittenByBlender(const std::string& text);
 
 /// Blender's Principled parameters as a Phong material: F0 = 0.08 x specular (Blender's specular scale,
 /// 0.5 giving glTF's 0.04), then the glTF mapping of materials/phong.h (rho_s = F0 (1 - m) + b m,

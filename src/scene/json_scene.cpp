@@ -222,14 +222,13 @@ Scene loadGeometry(const json& doc, const std::filesystem::path& dir, const std:
     std::filesystem::path file = doc[key].get<std::string>();
     if (file.is_relative()) file = dir / file;
     const std::string ext = lowerExtension(file.string());
-    if (std::string(key) == "mesh" && ext != ".obj" && ext != ".ply" && !isAssimpExtension(file.string()))
+    if (std::string(key) == "mesh" && !isMeshExtension(file.string()))
         throw InputError(
             fmt::format("{}: \"mesh\": {}: not a format symphong reads (.obj, .gltf, .glb, .ply, .fbx, .dae, .3ds)", path, file.string()));
     try {
         // A camera from the file (glTF, FBX, Collada) is the scene's own, as the built-in box's.
         cameraFromData = ext != ".obj" && ext != ".ply";
-        if (ext == ".ply") return loadPly(file.string());
-        return ext == ".obj" ? loadObj(file.string()) : loadAssimp(file.string());
+        return loadMeshFile(file.string());
     } catch (const MissingFileError& e) {
         throw MissingFileError(fmt::format("{}: \"{}\": {}", path, key, e.what()));
     } catch (const InputError& e) {

@@ -180,7 +180,7 @@ MtlKeys validateMtl(const std::string& path, const std::string& text) {
             if (value < 0) throw InputError(fmt::format("{}:{}: {} value {} is negative", path, line, key, w[i]));
         }
     });
-    const bool blender = text.rfind("# Blender", 0) == 0;  // Blender's MTL opens with its own comment
+    const bool blender = mtlWrittenByBlender(text);
     for (auto& [name, material] : keys) material.file = path, material.blender = blender;
     return keys;
 }

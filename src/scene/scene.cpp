@@ -144,6 +144,18 @@ bool isAssimpExtension(const std::string& path) {
     return false;
 }
 
+bool isMeshExtension(const std::string& path) {
+    const std::string ext = lowerExtension(path);
+    return ext == ".obj" || ext == ".ply" || isAssimpExtension(path);
+}
+
+Scene loadMeshFile(const std::string& path) {
+    const std::string ext = lowerExtension(path);
+    if (ext == ".obj") return loadObj(path);
+    if (ext == ".ply") return loadPly(path);
+    return loadAssimp(path);
+}
+
 namespace {
 
 Scene loadSceneUnguarded(const std::string& spec) {
@@ -152,20 +164,9 @@ Scene loadSceneUnguarded(const std::string& spec) {
         finalizeScene(s, spec, false);
         return s;
     }
-    const std::string ext = lowerExtension(spec);
-    if (ext == ".obj") {
-        Scene s = loadObj(spec);
-        finalizeScene(s, spec, false);
-        return s;
-    }
-    if (ext == ".json") return loadJsonScene(spec);
-    if (ext == ".ply") {
-        Scene s = loadPly(spec);
-        finalizeScene(s, spec, false);
-        return s;
-    }
-    if (isAssimpExtension(spec)) {
-        Scene s = loadAssimp(spec);
+    if (lowerExtension(spec) == ".json") return loadJsonScene(spec);
+    if (isMeshExtension(spec)) {
+        Scene s = loadMeshFile(spec);
         finalizeScene(s, spec, false);
         return s;
     }

@@ -93,6 +93,10 @@ Scene loadAssimp(const std::string& path);
 Scene loadPly(const std::string& path);
 /// Whether a file name's extension is one loadScene reads through Assimp.
 bool isAssimpExtension(const std::string& path);
+/// Whether it is a mesh file of any format (.obj, .ply, or one read through Assimp).
+bool isMeshExtension(const std::string& path);
+/// A mesh file by its extension (loadObj, loadPly or loadAssimp), without finalizeScene.
+Scene loadMeshFile(const std::string& path);
 
 /// JSON scene file; see docs/scene-format.md.
 Scene loadJsonScene(const std::string& path);

@@ -13,13 +13,6 @@ namespace symphong {
 
 namespace {
 
-/// The median, by partial ordering (the bootstrap takes thousands of them).
-double median(std::vector<double> v) {
-    const std::size_t half = v.size() / 2;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(half), v.end());
-    if (v.size() % 2) return v[half];
-    return 0.5 * (*std::max_element(v.begin(), v.begin() + static_cast<long>(half)) + v[half]);
-}
 
 /// A measure of one render, by name.
 using Measure = double StudyRow::*;
@@ -111,6 +104,13 @@ std::string biasLine(const std::vector<StudySummary>& summary) {
 }
 
 }  // namespace
+
+double median(std::vector<double> v) {
+    const std::size_t half = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(half), v.end());
+    if (v.size() % 2) return v[half];
+    return 0.5 * (*std::max_element(v.begin(), v.begin() + static_cast<long>(half)) + v[half]);
+}
 
 std::optional<RatioInterval> bootstrapRatio(const std::vector<double>& a, const std::vector<double>& b, std::uint64_t seed, int draws) {
     if (a.empty() || b.empty() || !(median(b) > 0)) return std::nullopt;

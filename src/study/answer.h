@@ -13,6 +13,10 @@
 
 namespace symphong {
 
+/// The median of the values (the mean of the middle two for an even count), by partial ordering: the
+/// study's summary takes it over repeats and the bootstrap thousands of times.
+double median(std::vector<double> v);
+
 /// A ratio of two medians with its 95% percentile-bootstrap interval.
 struct RatioInterval {
     double point = 0, lo = 0, hi = 0;

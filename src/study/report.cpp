@@ -173,12 +173,11 @@ std::string reportEqualTime(const ReportInputs& in) {
 
 std::string reportMarkdown(const ReportInputs& in) {
     std::string md = reportHeader(in) + "## The answer\n\n";
-    const int draws = in.cancelled ? 0 : kReportDraws;
-    for (const std::string& line : studyAnswer(in.config, in.rows, in.summary, draws)) md += "- " + line + "\n";
+    for (const std::string& line : in.answer) md += "- " + line + "\n";
     md += in.cancelled ? "\nreport.html is written when the study finishes (`--resume` continues it). "
                        : "\nSee it: [report.html](report.html) (every render beside the reference, error and FLIP maps, zoom, plots). ";
     md += "Details: [details.md](details.md) (every measure of every group, the variance budget, equal time, plots).\n\n";
-    for (const ReportTable& t : studyTables(in.config, in.rows, in.summary, draws)) md += tableMarkdown(t);
+    for (const ReportTable& t : in.tables) md += tableMarkdown(t);
     return md;
 }
 

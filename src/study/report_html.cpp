@@ -138,7 +138,7 @@ nlohmann::json reportHtmlData(const ReportInputs& in, const fs::path& dir) {
     d["subtitle"] = fmt::format("{}x{} pixels, max depth {}, {} repeat(s) per variant and spp, seed {}{}. The viewer shows each variant's first repeat.",
                                 c.width, c.height, c.maxDepth, c.repeats, c.seed, in.cancelled ? "; interrupted: the finished rows only" : "");
     nlohmann::json answer = nlohmann::json::array();
-    for (const std::string& line : studyAnswer(c, in.rows, in.summary)) answer.push_back(withoutEmphasis(line));
+    for (const std::string& line : in.answer) answer.push_back(withoutEmphasis(line));
     d["answer"] = answer;
     d["width"] = c.width;
     d["height"] = c.height;
@@ -154,7 +154,7 @@ nlohmann::json reportHtmlData(const ReportInputs& in, const fs::path& dir) {
     }
     d["variants"] = variants;
     d["plots"] = plotsJson(dir);
-    d["tables"] = tablesJson(studyTables(c, in.rows, in.summary));
+    d["tables"] = tablesJson(in.tables);
     return d;
 }
 

@@ -125,8 +125,14 @@ public:
     void finish(StudyOutcome& outcome, const Reference& ref) const {
         writeResults(outcome, ref);
         if (!outcome.cancelled && c_.plots) outcome.plotted = makePlots(c_, dir_);
-        const ReportInputs in{c_, sceneName_, outcome.summary, outcome.rows, outcome.conclusion, ref, outcome.plotted,
-                              heatSpp_, outcome.cancelled, processes_};
+        // The answer's and tables' bootstrap intervals, once for report.md, report.html and the command line;
+        // none for an interrupted study (thousands of resamplings per cell take seconds under a sanitizer,
+        // more than a job stopped by its launcher has).
+        const int draws = outcome.cancelled ? 0 : kReportDraws;
+        outcome.answer = studyAnswer(c_, outcome.rows, outcome.summary, draws);
+        const std::vector<ReportTable> tables = studyTables(c_, outcome.rows, outcome.summary, draws);
+        const ReportInputs in{c_,        sceneName_,        outcome.summary, outcome.rows,   outcome.conclusion, ref, outcome.plotted,
+                              heatSpp_, outcome.cancelled, processes_,      outcome.answer, tables};
         writeFile((dir_ / "report.md").string(), reportMarkdown(in));
         writeFile((dir_ / "details.md").string(), reportDetailsMarkdown(in));
         // Not when interrupted: its FLIP maps take seconds that a job stopped by its launcher does not have

@@ -125,6 +125,7 @@ struct StudyOutcome {
     bool referenceRendered = false;  ///< false when the reference was given or taken from the cache
     int keptRows = 0;                ///< --resume: rows kept from the earlier run
     std::string conclusion;
+    std::vector<std::string> answer;  ///< report.md's answer lines (study/answer.h), set when the report is written
 };
 
 /// Called after each finished row with the number of rows so far, in every runStudy of the process

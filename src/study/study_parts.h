@@ -7,6 +7,7 @@
 #include "io/image.h"
 #include "render/checkpoint.h"
 #include "compare/metrics.h"
+#include "study/answer.h"
 #include "study/study.h"
 
 #include <nlohmann/json.hpp>
@@ -114,6 +115,8 @@ struct ReportInputs {
     std::uint32_t heatSpp = 0;
     bool cancelled = false;
     int processes = 1;
+    const std::vector<std::string>& answer;  ///< studyAnswer's lines, computed once for report.md and report.html
+    const std::vector<ReportTable>& tables;  ///< studyTables, the same
 };
 
 /// report.md: the answer (study/answer.h) and one table per measure.

@@ -2,6 +2,7 @@
 // conclusion computed from them (which variant wins where, by the estimators' traits, never their names).
 #include "estimators/registry.h"
 #include "sampling/sampler_registry.h"
+#include "study/answer.h"
 #include "study/study_parts.h"
 
 #include <fmt/format.h>
@@ -65,10 +66,6 @@ std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
         double spread = 0;
         for (const StudyRow* r : g) spread += (r->rmse - meanRmse) * (r->rmse - meanRmse);
         s.rmseSpread = g.size() > 1 ? std::sqrt(spread / (n - 1) / n) : 0.0;  // standard error of the mean RMSE
-        const auto median = [](std::vector<double> v) {
-            std::sort(v.begin(), v.end());
-            return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-        };
         s.rmse = median(rmse);
         s.mse = median(mse);
         s.relMse = median(relMse);
