@@ -172,8 +172,8 @@ inline bool nonNegativeFinite(const Color& c) { return isFinite(c) && minCompone
 inline std::string textureRefProblem(const TextureRef& r, std::size_t textures) {
     if (r.index < -1 || (r.index >= 0 && static_cast<std::size_t>(r.index) >= textures))
         return "texture index " + std::to_string(r.index) + " out of range (" + std::to_string(textures) + " textures)";
-    if (!std::isfinite(r.scaleU) || !std::isfinite(r.scaleV) || !std::isfinite(r.offsetU) || !std::isfinite(r.offsetV))
-        return "a texture's scale or offset is not finite";
+    for (double x : r.transform)
+        if (!std::isfinite(x)) return "a texture's transform (scale, offset, rotation) is not finite";
     return {};
 }
 
@@ -221,6 +221,9 @@ inline std::string sceneProblem(const Scene& s) {
                 const auto& uv = s.uvs[static_cast<std::size_t>(t.t[k])];
                 if (!std::isfinite(uv[0]) || !std::isfinite(uv[1])) return tri + " uses non-finite texture coordinates";
             }
+            if (t.tg[k] < -1 || (t.tg[k] >= 0 && static_cast<std::size_t>(t.tg[k]) >= s.tangents.size()))
+                return tri + " tangent index " + std::to_string(t.tg[k]) + " out of range (" + std::to_string(s.tangents.size()) + ")";
+            if (t.tg[k] >= 0 && !isFinite(s.tangents[static_cast<std::size_t>(t.tg[k])].t)) return tri + " uses a non-finite tangent";
         }
         if (t.material >= s.materials.size())
             return tri + " material " + std::to_string(t.material) + " >= " + std::to_string(s.materials.size()) + " materials";
@@ -233,8 +236,10 @@ inline std::string sceneProblem(const Scene& s) {
         for (int c = 0; c < 3; ++c)
             if (m.rhoD[c] + m.rhoS[c] > 1.0 + 1e-9) return mat + " reflects more than it receives (Kd + Ks > 1)";
         const MaterialTextures& tx = m.textures;
-        for (const TextureRef* r : {&tx.diffuse, &tx.specular, &tx.exponent, &tx.metallicRoughness, &tx.emission, &tx.alpha})
+        for (const TextureRef* r :
+             {&tx.diffuse, &tx.specular, &tx.exponent, &tx.metallicRoughness, &tx.emission, &tx.alpha, &tx.normal, &tx.bump})
             if (std::string p = textureRefProblem(*r, s.textures.size()); !p.empty()) return mat + ": " + p;
+        if (!std::isfinite(tx.normalScale) || !std::isfinite(tx.bumpScale)) return mat + " has a non-finite normal or bump scale";
         if (!nonNegativeFinite(tx.baseColor) || !std::isfinite(tx.metallic) || !std::isfinite(tx.roughness))
             return mat + " has non-finite metallic-roughness factors";
     }

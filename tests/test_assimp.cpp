@@ -11,6 +11,7 @@
 #include "compare/metrics.h"
 
 #include <assimp/postprocess.h>
+#include <fmt/format.h>
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
 #include <assimp/Exporter.hpp>
@@ -393,4 +394,54 @@ TEST(Assimp, AuthoredFbxRendersTheMeanOfItsObjTwin) {
     const auto [mb, sb] = test::imageMeanAndError(renderSmall(b));
     EXPECT_NEAR(ma, mb, 4 * std::hypot(sa, sb)) << "se " << sa << ", " << sb;
     EXPECT_GT(mb, 0.3) << "the lamp and the lit box are in view";
+}
+
+namespace {
+
+/// A glTF of one mesh whose primitives share `positions` and each have their own index list and mode
+/// (4 triangles, 5 strip, 6 fan, 1 lines), the buffer in a file beside it; no material.
+std::string writePrimitivesGltf(const test::TempDir& dir, const std::string& name, const std::vector<std::array<float, 3>>& positions,
+                                const std::vector<std::pair<int, std::vector<std::uint16_t>>>& primitives) {
+    std::string bin;
+    for (const auto& p : positions) bin.append(reinterpret_cast<const char*>(p.data()), 12);
+    std::string views = fmt::format(R"({{"buffer": 0, "byteOffset": 0, "byteLength": {}}})", bin.size());
+    std::string accessors = fmt::format(R"({{"bufferView": 0, "componentType": 5126, "count": {}, "type": "VEC3"}})", positions.size());
+    std::string prims;
+    for (std::size_t k = 0; k < primitives.size(); ++k) {
+        const auto& [mode, indices] = primitives[k];
+        while (bin.size() % 4) bin.push_back('\0');
+        views += fmt::format(R"(, {{"buffer": 0, "byteOffset": {}, "byteLength": {}}})", bin.size(), indices.size() * 2);
+        for (std::uint16_t i : indices) bin.append(reinterpret_cast<const char*>(&i), 2);
+        accessors += fmt::format(R"(, {{"bufferView": {}, "componentType": 5123, "count": {}, "type": "SCALAR"}})", k + 1, indices.size());
+        prims += fmt::format(R"({}{{"attributes": {{"POSITION": 0}}, "indices": {}, "mode": {}}})", k ? ", " : "", k + 1, mode);
+    }
+    std::ofstream(dir.file(name + ".bin"), std::ios::binary) << bin;
+    return dir.write(name + ".gltf", fmt::format(R"({{"asset": {{"version": "2.0"}}, "buffers": [{{"uri": "{}.bin", "byteLength": {}}}],
+  "bufferViews": [{}], "accessors": [{}], "meshes": [{{"primitives": [{}]}}], "nodes": [{{"mesh": 0}}], "scenes": [{{"nodes": [0]}}], "scene": 0}})",
+                                                 name, bin.size(), views, accessors, prims));
+}
+
+bool warnedWith(const Scene& s, const std::string& text) {
+    return std::any_of(s.warnings.begin(), s.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+}  // namespace
+
+TEST(Assimp, WhatIsNotDrawnOrNotReadIsSaid) {
+    test::TempDir dir;
+    const std::vector<std::array<float, 3>> grid{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 2, 0}, {1, 2, 0}};
+    // A strip of 6 indices (4 triangles), a fan of 5 (3), and two line segments: 7 triangles are drawn,
+    // the lines are named, and the declared count (7) agrees with what Assimp read.
+    const Scene mixed = loadScene(writePrimitivesGltf(dir, "mixed", grid, {{5, {0, 1, 2, 3, 4, 5}}, {6, {0, 1, 3, 5, 4}}, {1, {0, 1, 1, 3}}}));
+    EXPECT_EQ(mixed.triangles.size(), 7u);
+    EXPECT_TRUE(warnedWith(mixed, "0 points and 2 line segments are not drawn"));
+    EXPECT_FALSE(warnedWith(mixed, "declare"));
+    // A file without materials gets the neutral default (not Assimp's glTF stand-in, a rough white metal).
+    ASSERT_EQ(mixed.materials.size(), 1u);
+    EXPECT_EQ(mixed.materials[0].rhoD, Color(0.7));
+    EXPECT_EQ(mixed.materials[0].rhoS, Color(0.0));
+    // Three triangles declared, the third with a vertex index past the end: Assimp 5.2 drops it silently.
+    const Scene dropped = loadScene(writePrimitivesGltf(dir, "dropped", grid, {{4, {0, 1, 2, 1, 3, 2, 1, 3, 99}}}));
+    EXPECT_EQ(dropped.triangles.size(), 2u);
+    EXPECT_TRUE(warnedWith(dropped, "declare 3 triangles, but Assimp")) << (dropped.warnings.empty() ? "" : dropped.warnings[0]);
 }

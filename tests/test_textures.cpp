@@ -260,13 +260,13 @@ TEST(TexturedRender, MissingTextureIsAWarningAndTheConstantIsUsed) {
     for (const auto& w : s.warnings)
         warned = warned || (w.find("nowhere.png") != std::string::npos && w.find("m.mtl:3") != std::string::npos);
     EXPECT_TRUE(warned) << "no warning naming the texture and its MTL line";
-    // Maps symphong does not have (bump, normal) are ignored with a warning, not silently.
-    dir.write("b.mtl", "newmtl m\nKd 0.25 0.25 0.25\nbump bumps.png\n");
+    // Maps symphong does not have (displacement, reflection) are ignored with a warning, not silently.
+    dir.write("b.mtl", "newmtl m\nKd 0.25 0.25 0.25\ndisp height.png\n");
     squareObj(dir, "b.mtl", "m");
-    const Scene bumpy = loadScene(squareJson(dir, "square.obj", "1"));
-    bool bumpWarned = false;
-    for (const auto& w : bumpy.warnings) bumpWarned = bumpWarned || w.find("bump map 'bumps.png' is not supported") != std::string::npos;
-    EXPECT_TRUE(bumpWarned);
+    const Scene displaced = loadScene(squareJson(dir, "square.obj", "1"));
+    bool dispWarned = false;
+    for (const auto& w : displaced.warnings) dispWarned = dispWarned || w.find("disp map 'height.png' is not supported") != std::string::npos;
+    EXPECT_TRUE(dispWarned);
     const auto [mean, se] = test::imageMeanAndError(test::renderIndependent(s, "cosine", 16, 4, 1));
     EXPECT_NEAR(mean, 0.25, 1e-6 + 4 * se);
 }

@@ -8,7 +8,9 @@
 //     g++ -std=c++17 -O1 -o assimp_dump scripts/blender-roundtrip/assimp_dump.cpp -lassimp
 // Run:
 //     ./assimp_dump FILE           # symphong's flags (Triangulate | SortByPType | JoinIdenticalVertices |
-//                                  #   ValidateDataStructure | FindInvalidData; points and lines removed)
+//                                  #   ValidateDataStructure; src/scene/assimp_guard.cpp). The dumps in
+//                                  #   tests/data/blender/assimp-5.2 were made with FindInvalidData and
+//                                  #   points and lines removed, as symphong read files then.
 //     ./assimp_dump --raw FILE     # no post-processing at all (faces as the importer made them)
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
@@ -202,13 +204,11 @@ int main(int argc, char** argv) {
     Assimp::Importer importer;
     unsigned flags = 0;
     if (!raw) {
-        importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-        flags = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure |
-                aiProcess_FindInvalidData;
+        flags = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
     }
     const aiScene* s = importer.ReadFile(path, flags);
     std::printf("file: %s\nassimp: %u.%u.%u   post-processing: %s\n", path, aiGetVersionMajor(), aiGetVersionMinor(), aiGetVersionPatch(),
-                raw ? "none (--raw)" : "symphong's (Triangulate|SortByPType|JoinIdenticalVertices|ValidateDataStructure|FindInvalidData)");
+                raw ? "none (--raw)" : "symphong's (Triangulate|SortByPType|JoinIdenticalVertices|ValidateDataStructure)");
     if (!s) {
         std::printf("IMPORT FAILED: %s\n", importer.GetErrorString());
         return 1;

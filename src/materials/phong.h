@@ -5,17 +5,22 @@
 
 #include "math/vec3.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 
 namespace symphong {
 
 /// A texture on one parameter of a material: an index into the scene's texture table (scene/), and the
-/// affine map of texture coordinates uv' = uv * scale + offset (the MTL options -s and -o).
+/// affine map of texture coordinates u' = a u + b v + c, v' = d u + e v + f, stored {a, b, c, d, e, f}:
+/// the MTL options -s and -o (a, e the scale, c, f the offset), or glTF's KHR_texture_transform (offset,
+/// rotation, scale) turned into symphong's v-up coordinates.
 struct TextureRef {
     std::int32_t index = -1;  ///< -1: no texture
-    double scaleU = 1, scaleV = 1, offsetU = 0, offsetV = 0;
+    std::array<double, 6> transform{1, 0, 0, 0, 1, 0};
     bool present() const { return index >= 0; }
+    double u(double s, double t) const { return transform[0] * s + transform[1] * t + transform[2]; }
+    double v(double s, double t) const { return transform[3] * s + transform[4] * t + transform[5]; }
 };
 
 /// How textures set a material's parameters at a point. materials/ only records them; scene/surface.h
@@ -30,14 +35,25 @@ struct MaterialTextures {
     TextureRef diffuse, specular, exponent, metallicRoughness;
     TextureRef emission;   ///< Le = Ke x emission
     TextureRef alpha;      ///< cut-out: where its coverage is below 1/2 the surface is a hole
+    /// Tangent-space normal map (OpenGL convention: red along the tangent, the direction of increasing u;
+    /// green along the bitangent, increasing v; blue along the normal): n = normalize((2c - 1) x (s, s, 1))
+    /// with s = normalScale (glTF's normalTexture.scale, MTL's -bm). scene/shading_normal.h applies it.
+    TextureRef normal;
+    double normalScale = 1;
+    /// Height (bump) map: the surface displaced along its normal by bumpScale x the map's first channel
+    /// (MTL's -bm, in scene units), its normal by finite differences of that height.
+    TextureRef bump;
+    double bumpScale = 1;
     Color baseColor{1.0};  ///< MetallicRoughness factors
     double metallic = 0, roughness = 1;
     Color specularF0{0.04};  ///< MetallicRoughness: a dielectric's reflectance at normal incidence (KHR_materials_specular, _ior)
 
     bool any() const {
         return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present() || emission.present() ||
-               alpha.present();
+               alpha.present() || perturbsNormal();
     }
+    /// Whether a normal or bump map changes the shading normal.
+    bool perturbsNormal() const { return normal.present() || bump.present(); }
     /// Whether the textures change rho_d, rho_s or n (not only emission or coverage).
     bool reflectance() const { return diffuse.present() || specular.present() || exponent.present() || metallicRoughness.present(); }
 };

@@ -21,6 +21,10 @@ std::string materialMaps(const MaterialTextures& tx) {
     add("metallic-roughness", tx.metallicRoughness);
     add("emission", tx.emission);
     add("cut-out", tx.alpha);
+    add("normal", tx.normal);
+    if (tx.normal.present() && tx.normalScale != 1) maps += fmt::format(" (scale {:.4g})", tx.normalScale);
+    add("bump", tx.bump);
+    if (tx.bump.present()) maps += fmt::format(" (height x {:.4g} scene units)", tx.bumpScale);
     if (pbr)
         maps += fmt::format(" (glTF factors: base colour {}, metallic {:.4g}, roughness {:.4g})", formatTriple(tx.baseColor), tx.metallic,
                             tx.roughness);
@@ -45,8 +49,8 @@ std::string describeMaterials(const Scene& s) {
 std::string describeTextures(const Scene& s) {
     std::uint64_t textureBytes = 0;
     for (const Texture& t : s.textures) textureBytes += t.bytes();
-    std::string out = fmt::format("textures    {} ({:.3g} MiB), {} texture coordinates\n", s.textures.size(),
-                                  static_cast<double>(textureBytes) / (1024.0 * 1024.0), s.uvs.size());
+    std::string out = fmt::format("textures    {} ({:.3g} MiB), {} texture coordinates, {} tangents\n", s.textures.size(),
+                                  static_cast<double>(textureBytes) / (1024.0 * 1024.0), s.uvs.size(), s.tangents.size());
     for (std::size_t i = 0; i < s.textures.size(); ++i) {
         const Texture& t = s.textures[i];
         out += fmt::format("  {:<3} {} x {}, {} channel{}, wrap {}/{}: {}\n", i, t.width(), t.height(), t.channels(),

@@ -1,6 +1,7 @@
 #include "render/path_tracer.h"
 
 #include "math/frame.h"
+#include "scene/shading_normal.h"
 #include "scene/surface.h"
 
 #include <algorithm>
@@ -80,12 +81,23 @@ double PathTracer::emissionWeight(const Hit& hit, const Vec3& d, int depth, doub
     return powerHeuristic(prevMisPdf, e ? e->pdfOfHit(d, hit.t, emitters_.triangleProbability(hit.prim)) : 0.0);
 }
 
-// The interpolated vertex normal on the side of ng (the geometric normal facing the ray), or ng.
-Vec3 PathTracer::shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng) const {
-    if (tri.n[0] < 0) return ng;
-    const double b0 = 1.0 - hit.u - hit.v;
-    const Vec3 ns = normalize(scene_.normals[tri.n[0]] * b0 + scene_.normals[tri.n[1]] * hit.u + scene_.normals[tri.n[2]] * hit.v);
-    return dot(ns, ng) < 0 ? -ns : ns;
+// The interpolated vertex normal (or the geometric one) bent by the material's normal or bump map, on
+// the side of ng (the geometric normal facing the ray). Where the map bends it so far that the viewer
+// (wo, towards the eye) or ng falls behind it, the unbent normal: the map cannot be honoured there, and
+// a black spot would be worse.
+Vec3 PathTracer::shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
+                               const Vec3& wo) const {
+    Vec3 ns = geometricNormals_[hit.prim];
+    if (tri.n[0] >= 0) {
+        const double b0 = 1.0 - hit.u - hit.v;
+        ns = normalize(scene_.normals[tri.n[0]] * b0 + scene_.normals[tri.n[1]] * hit.u + scene_.normals[tri.n[2]] * hit.v);
+    }
+    const double side = dot(ns, ng) < 0 ? -1.0 : 1.0;
+    if (textures.perturbsNormal()) {
+        const Vec3 bent = perturbedNormal(scene_, tri, textures, hit.u, hit.v, uv, ns) * side;
+        if (dot(bent, wo) > 0 && dot(bent, ng) > 0) return bent;
+    }
+    return ns * side;
 }
 
 Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int depth, std::uint64_t path, double prevMisPdf,
@@ -109,8 +121,9 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     if (depth >= settings_.maxDepth) return L;
 
     if (!frontFace) ng = -ng;
-    const Frame frame = Frame::fromNormal(shadingNormal(tri, hit, ng));
-    const Vec3 wo = frame.toLocal(normalize(-d));
+    const Vec3 toEye = normalize(-d);
+    const Frame frame = Frame::fromNormal(shadingNormal(tri, hit, ng, baseMaterial.textures, uv, toEye));
+    const Vec3 wo = frame.toLocal(toEye);
     if (wo.z <= 0) return L;  // seen from behind its shading normal: reflects nothing
 
     const ShadingContext sc{wo, &mat, depth, depth == 0};

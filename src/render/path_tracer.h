@@ -9,6 +9,7 @@
 #include "lights/emitters.h"
 #include "math/frame.h"
 #include "scene/scene.h"
+#include "scene/surface.h"
 #include "util/cache_line.h"
 
 #include <cstdint>
@@ -109,7 +110,8 @@ private:
                 PathContext& pc) const;
     /// A branching vertex's rays, traced together from `origin` and each continued as its own path.
     Color traceBundle(const Vec3& origin, RayBundle& bundle, int depth, PathContext& pc) const;
-    Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng) const;
+    Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
+                       const Vec3& wo) const;
     double emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const;
     /// The estimator's misPdf at this vertex, times the first hit's split count k at depth 0 (k calls:
     /// the density of the whole set of directions, as MIS needs it).

@@ -92,9 +92,8 @@ std::uint64_t assimpChildMemoryLimit(std::uint64_t fileBytes) {
 }
 
 const aiScene* importWithAssimp(Assimp::Importer& importer, const std::string& path) {
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
-                                                    aiProcess_ValidateDataStructure | aiProcess_FindInvalidData);
+                                                    aiProcess_ValidateDataStructure);
     return ai && ai->mRootNode && !(ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) ? ai : nullptr;
 }
 

@@ -12,9 +12,10 @@ class Importer;
 
 namespace symphong {
 
-/// Reads `path` with `importer` as every load does (triangulated, sorted by primitive type with points and
-/// lines removed, identical vertices joined, validated); null when Assimp refuses it or gives an incomplete
-/// scene (its message: importer.GetErrorString()).
+/// Reads `path` with `importer` as every load does (triangulated, sorted by primitive type, identical
+/// vertices joined, validated; points and lines are kept so that the load can say they are not drawn;
+/// no FindInvalidData, which deletes a flat mesh's tangents because they are all alike); null when
+/// Assimp refuses it or gives an incomplete scene (its message: importer.GetErrorString()).
 const aiScene* importWithAssimp(Assimp::Importer& importer, const std::string& path);
 
 /// Reads `path` with importWithAssimp in a child process under

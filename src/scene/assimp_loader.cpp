@@ -1,25 +1,23 @@
 // scene/assimp_loader.cpp — mesh formats other than OBJ through Assimp (Debian's libassimp-dev): glTF 2.0,
 // FBX, Collada, 3DS and the rest Assimp reads (PLY has its own reader, ply_loader.cpp), each first in a
 // child process (assimp_guard.h). Meshes are triangulated and placed by their nodes'
-// transforms; materials are mapped to Phong parameters by the table in docs/scene-format.md; the
-// file's first camera and its point, spot and directional lights are kept. Coordinates stay as the
-// file defines them (glTF: y up, metres). Textures (diffuse / base colour, specular, shininess,
-// metallic-roughness, emissive, opacity and glTF's alpha mask), from files beside the model or embedded
-// in it, go through scene/surface.h's texture table.
+// transforms (with the file's tangents where it has them); materials and their textures are mapped by
+// scene/assimp_materials.h; the file's first camera and its point, spot and directional lights are kept.
+// Coordinates stay as the file defines them (glTF: y up, metres). After the load, what the file holds
+// that is not drawn (points, lines) and what Assimp read short of a glTF's declared triangles is said.
 #include "scene/scene.h"
 
 #include "scene/assimp_guard.h"
+#include "scene/assimp_materials.h"
 #include "scene/exporter_conventions.h"
 
 #include "io/files.h"
 #include "io/input_error.h"
 #include "io/memory.h"
 #include "scene/surface.h"
-#include "texture/texture_io.h"
 
 #include <nlohmann/json.hpp>
 
-#include <assimp/GltfMaterial.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -51,9 +49,6 @@ namespace symphong {
 
 namespace {
 
-Vec3 toVec3(const aiVector3D& v) { return {v.x, v.y, v.z}; }
-Color toColor(const aiColor3D& c) { return {c.r, c.g, c.b}; }
-
 /// Every node with its world transform, in depth-first pre-order, without recursion (a file may chain
 /// thousands of nodes; the fuzzer found a 6000-deep glTF chain that overflowed a recursive walk).
 std::vector<std::pair<const aiNode*, aiMatrix4x4>> worldTransforms(const aiNode* root) {
@@ -79,191 +74,6 @@ aiMatrix4x4 nodeTransform(const std::vector<std::pair<std::string, aiMatrix4x4>>
     for (const auto& [n, m] : nodes)
         if (n == name.C_Str()) return m;
     return aiMatrix4x4();
-}
-
-WrapMode wrapMode(int mode) {
-    switch (mode) {
-        case aiTextureMapMode_Clamp:
-        case aiTextureMapMode_Decal:
-            return WrapMode::Clamp;
-        case aiTextureMapMode_Mirror:
-            return WrapMode::Mirror;
-        default:
-            return WrapMode::Repeat;
-    }
-}
-
-/// The first texture of `type` on material m, from a file beside the model or embedded in it ("*N"),
-/// with its wrap modes; an absent one is a TextureRef without index (a missing file also warns).
-TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType type, TextureEncoding encoding, TextureTable& table,
-                         const std::string& path, const std::string& materialName) {
-    TextureRef ref;
-    if (m.GetTextureCount(type) == 0) return ref;
-    aiString file;
-    aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-    if (m.GetTexture(type, 0, &file, nullptr, nullptr, nullptr, nullptr, modes) != AI_SUCCESS || file.length == 0) return ref;
-    const std::string where = fmt::format("{}: material '{}'", path, materialName);
-    if (const aiTexture* embedded = ai.GetEmbeddedTexture(file.C_Str())) {
-        const std::string name = fmt::format("{}: embedded texture '{}'", path, file.C_Str());
-        ref.index = table.add(name, encoding, [&] {
-            if (embedded->mHeight == 0)  // compressed (PNG, JPEG, ...): mWidth bytes
-                return decodeTexture(name, reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, encoding);
-            // Raw BGRA8888 texels, mWidth x mHeight, row 0 at the top.
-            const std::uint64_t w = embedded->mWidth, h = embedded->mHeight;
-            requireMemory(saturatingMultiply(w, h) * 16, fmt::format("{}: a {} x {} texture", name, w, h));
-            std::vector<unsigned char> rgba(static_cast<std::size_t>(w * h * 4));
-            for (std::size_t i = 0; i < w * h; ++i) {
-                const aiTexel& t = embedded->pcData[i];
-                rgba[4 * i] = t.r, rgba[4 * i + 1] = t.g, rgba[4 * i + 2] = t.b, rgba[4 * i + 3] = t.a;
-            }
-            return textureFrom8Bit(name, static_cast<int>(w), static_cast<int>(h), 4, rgba.data(), encoding);
-        });
-    } else {
-        if (file.C_Str()[0] == '*')
-            throw InputError(fmt::format("{}: texture '{}' refers to an embedded image the file does not have", where, file.C_Str()));
-        std::filesystem::path f = file.C_Str();
-        if (f.is_relative()) f = std::filesystem::path(path).parent_path() / f;
-        ref.index = table.file(f.string(), encoding, where);
-    }
-    ref.index = table.withWrap(ref.index, wrapMode(modes[0]), wrapMode(modes[1]));
-    return ref;
-}
-
-/// Attaches material index i's textures: Phong maps (diffuse, specular, shininess) or glTF's
-/// metallic-roughness ones (base colour, metallic-roughness), emissive, and a cut-out (an opacity map,
-/// or glTF's alphaMode MASK/BLEND on the base colour's alpha).
-void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, bool pbr, const aiColor4D& base, float metallic,
-                    float roughness, TextureTable& table, Scene& scene, const std::string& path) {
-    MaterialTextures& tx = out.textures;
-    const auto tex = [&](aiTextureType type, TextureEncoding enc) { return assimpTexture(ai, m, type, enc, table, path, out.name); };
-    if (pbr) {
-        tx.diffuse = tex(aiTextureType_BASE_COLOR, TextureEncoding::Srgb);
-        if (!tx.diffuse.present()) tx.diffuse = tex(aiTextureType_DIFFUSE, TextureEncoding::Srgb);
-        tx.metallicRoughness = tex(aiTextureType_UNKNOWN, TextureEncoding::Linear);  // glTF: G roughness, B metallic
-        tx.baseColor = Color(base.r, base.g, base.b);
-        tx.metallic = metallic;
-        tx.roughness = roughness;
-        if (tx.diffuse.present() || tx.metallicRoughness.present()) tx.model = MaterialTextures::Model::MetallicRoughness;
-        aiString mode;
-        if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) != "OPAQUE" && tx.diffuse.present()) {
-            tx.alpha = tx.diffuse;
-            if (std::string(mode.C_Str()) == "BLEND")
-                scene.warnings.push_back(
-                    fmt::format("{}: material '{}' blends by alpha; symphong renders it as a cut-out at alpha 1/2", path, out.name));
-        }
-    } else {
-        tx.diffuse = tex(aiTextureType_DIFFUSE, TextureEncoding::Srgb);
-        tx.specular = tex(aiTextureType_SPECULAR, TextureEncoding::Srgb);
-        tx.exponent = tex(aiTextureType_SHININESS, TextureEncoding::Linear);
-        // A texture with no constant beside it: the constant is 1 (1000 for the exponent), as for MTL.
-        aiColor3D c;
-        if (tx.diffuse.present() && m.Get(AI_MATKEY_COLOR_DIFFUSE, c) != AI_SUCCESS) out.rhoD = Color(1.0);
-        if (tx.specular.present() && m.Get(AI_MATKEY_COLOR_SPECULAR, c) != AI_SUCCESS) out.rhoS = Color(1.0);
-        float shininess;
-        if (tx.exponent.present() && m.Get(AI_MATKEY_SHININESS, shininess) != AI_SUCCESS) out.exponent = 1000;
-    }
-    for (const auto& [type, what] :
-         {std::pair{aiTextureType_NORMALS, "normal"}, std::pair{aiTextureType_HEIGHT, "bump"},
-          std::pair{aiTextureType_DISPLACEMENT, "displacement"}, std::pair{aiTextureType_LIGHTMAP, "occlusion/light"}})
-        if (m.GetTextureCount(type) > 0)
-            scene.warnings.push_back(
-                fmt::format("{}: material '{}': its {} map is not supported by symphong; ignored", path, out.name, what));
-    tx.emission = tex(aiTextureType_EMISSIVE, TextureEncoding::Srgb);
-    if (!tx.alpha.present()) tx.alpha = tex(aiTextureType_OPACITY, TextureEncoding::Linear);
-}
-
-/// The value at a JSON pointer, or null when any step of it is missing or of another type.
-nlohmann::json member(const nlohmann::json& j, const std::string& pointer) {
-    try {
-        const nlohmann::json::json_pointer p(pointer);
-        return j.is_object() && j.contains(p) ? j.at(p) : nlohmann::json();
-    } catch (const nlohmann::json::exception&) {
-        return nullptr;
-    }
-}
-
-/// A glTF material's dielectric reflectance at normal incidence: ((ior - 1) / (ior + 1))^2 (0.04 at the
-/// default ior 1.5; KHR_materials_ior), times KHR_materials_specular's specularColorFactor, at most 1,
-/// times its specularFactor. Blender writes specularColorFactor 0 for "Specular 0".
-Color gltfSpecularF0(const nlohmann::json& material) {
-    const auto number = [&](const char* pointer, double fallback) {
-        const nlohmann::json v = member(material, pointer);
-        return v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0 ? v.get<double>() : fallback;
-    };
-    const double ior = number("/extensions/KHR_materials_ior/ior", 1.5);
-    const double r = (ior - 1) / (ior + 1);
-    Color colour(1.0);
-    const nlohmann::json c = member(material, "/extensions/KHR_materials_specular/specularColorFactor");
-    if (c.is_array() && c.size() == 3)
-        for (int k = 0; k < 3; ++k)
-            if (c[static_cast<std::size_t>(k)].is_number() && c[static_cast<std::size_t>(k)].get<double>() >= 0)
-                colour[k] = c[static_cast<std::size_t>(k)].get<double>();
-    const double factor = std::min(number("/extensions/KHR_materials_specular/specularFactor", 1.0), 1.0);
-    Color f0 = colour * (r * r);
-    for (int k = 0; k < 3; ++k) f0[k] = std::min(f0[k], 1.0) * factor;
-    return f0;
-}
-
-/// A material of the Phong family (FBX, Collada, 3DS): diffuse -> rho_d, specular -> rho_s, shininess ->
-/// n, with each format's conventions as Assimp 5.2 hands them over (docs/scene-format.md): FBX's
-/// SpecularFactor (Assimp's shininess strength) scales the specular colour; a Collada <lambert> effect has
-/// no specular part (Assimp gives it its defaults, 0.4 and 10) and a <constant> one only emits. An FBX
-/// that Blender wrote (`blender`) holds its Principled numbers in Blender's own way (exporter_conventions.h).
-void mapPhongMaterial(const aiMaterial& m, const std::string& path, bool blender, PhongMaterial& out) {
-    aiColor3D c;
-    if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) out.rhoD = toColor(c);
-    if (m.Get(AI_MATKEY_COLOR_SPECULAR, c) == AI_SUCCESS) out.rhoS = toColor(c);
-    float shininess = 0;
-    if (m.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS) out.exponent = std::max(0.0f, shininess);
-    const std::string ext = lowerExtension(path);
-    float strength = 1;
-    if (ext == ".fbx" && blender) {  // Blender's Principled numbers (scene/exporter_conventions.h)
-        float factor = 0, metallic = 0;
-        m.Get(AI_MATKEY_SHININESS_STRENGTH, factor);  // SpecularFactor = Specular / 2
-        m.Get(AI_MATKEY_REFLECTIVITY, metallic);      // ReflectionFactor = Metallic
-        const double roughness = 1.0 - std::sqrt(std::max(0.0, static_cast<double>(shininess))) / 10.0;
-        blenderPrincipledToPhong(out.rhoD, metallic, 2.0 * factor, roughness, out.rhoD, out.rhoS, out.exponent);
-        return;
-    }
-    if (ext == ".fbx" && m.Get(AI_MATKEY_SHININESS_STRENGTH, strength) == AI_SUCCESS && std::isfinite(strength))
-        out.rhoS *= std::max(0.0, static_cast<double>(strength));
-    int model = 0;
-    if (ext == ".dae" && m.Get(AI_MATKEY_SHADING_MODEL, model) == AI_SUCCESS) {
-        if (model == aiShadingMode_Gouraud) out.rhoS = Color(0.0);  // <lambert>
-        if (model == aiShadingMode_NoShading) out.rhoD = out.rhoS = Color(0.0);  // <constant>: emission only
-    }
-    if (isBlack(out.rhoS)) out.exponent = std::max(out.exponent, 1.0);
-}
-
-/// One material: Phong/Blinn parameters directly (diffuse -> rho_d, specular -> rho_s, shininess -> n,
-/// emissive -> Le); a glTF metallic-roughness material by the stated approximation
-/// (materials/phong.h metallicRoughnessToPhong) with its specular extensions (`gltf`: the material's own
-/// JSON, null for other formats); emission times KHR_materials_emissive_strength.
-PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, const nlohmann::json& gltf, bool blender,
-                          TextureTable& table, Scene& scene, const std::string& path) {
-    PhongMaterial out;
-    aiString name;
-    out.name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0 ? name.C_Str() : fmt::format("material{}", index);
-    aiColor4D base;
-    float metallic = 0, roughness = 1;
-    const bool pbr = m.Get(AI_MATKEY_BASE_COLOR, base) == AI_SUCCESS && m.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS;
-    if (pbr) {
-        m.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness);
-        out.textures.specularF0 = gltf.is_object() ? gltfSpecularF0(gltf) : Color(0.04);
-        metallicRoughnessToPhong(Color(base.r, base.g, base.b), metallic, roughness, out.textures.specularF0, out.rhoD, out.rhoS,
-                                 out.exponent);
-    } else {
-        mapPhongMaterial(m, path, blender, out);
-    }
-    aiColor3D e;
-    if (m.Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) out.emission = toColor(e);
-    float strength = 1;
-    if (m.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength) == AI_SUCCESS && strength != 1.0f) out.emission *= static_cast<double>(strength);
-    const nlohmann::json gltfStrength = member(gltf, "/extensions/KHR_materials_emissive_strength/emissiveStrength");
-    if (gltfStrength.is_number() && std::isfinite(gltfStrength.get<double>()) && gltfStrength.get<double>() >= 0)
-        out.emission *= gltfStrength.get<double>();
-    attachTextures(ai, m, out, pbr, base, metallic, roughness, table, scene, path);
-    return out;
 }
 
 /// The JSON of a .gltf file or of a .glb's JSON chunk; null for other files. A .gltf that is not JSON
@@ -328,6 +138,11 @@ void addMesh(const aiMesh* mesh, const aiMatrix4x4& world, const aiMatrix3x3& no
     const auto normalBase = static_cast<std::int32_t>(scene.normals.size());
     const auto uvBase = static_cast<std::int32_t>(scene.uvs.size());
     const bool hasUvs = mesh->mTextureCoords[0] != nullptr;
+    // Tangents only where the file gave them (no aiProcess_CalcTangentSpace): glTF's TANGENT, whose
+    // bitangent Assimp makes cross(n, t) w; placed by the node's transform, the sign read back after it.
+    const bool hasTangents = mesh->mNormals && mesh->mTangents && mesh->mBitangents;
+    const auto tangentBase = static_cast<std::int32_t>(scene.tangents.size());
+    const aiMatrix3x3 linear(world);
     requireMemory(saturatingMultiply(mesh->mNumVertices, 80) + saturatingMultiply(mesh->mNumFaces, 48),
                   fmt::format("{}: mesh '{}' of {} vertices and {} faces", path, mesh->mName.C_Str(), mesh->mNumVertices, mesh->mNumFaces));
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
@@ -338,6 +153,12 @@ void addMesh(const aiMesh* mesh, const aiMatrix4x4& world, const aiMatrix3x3& no
             Vec3 n = toVec3(normalMatrix * mesh->mNormals[v]);
             const double len = length(n);
             scene.normals.push_back(len > 0 && std::isfinite(len) ? n / len : Vec3(0, 1, 0));
+        }
+        if (hasTangents) {
+            const Vec3 t = toVec3(linear * mesh->mTangents[v]), b = toVec3(linear * mesh->mBitangents[v]);
+            const double len = length(t);
+            const bool usable = len > 0 && std::isfinite(len) && isFinite(b);
+            scene.tangents.push_back({usable ? t / len : Vec3(1, 0, 0), usable && dot(cross(scene.normals.back(), t), b) < 0 ? -1.0 : 1.0});
         }
         if (hasUvs) {
             const aiVector3D& t = mesh->mTextureCoords[0][v];
@@ -358,9 +179,54 @@ void addMesh(const aiMesh* mesh, const aiMatrix4x4& world, const aiMatrix3x3& no
             t.v[static_cast<std::size_t>(c)] = base + idx;
             t.n[static_cast<std::size_t>(c)] = mesh->mNormals ? normalBase + static_cast<std::int32_t>(idx) : -1;
             t.t[static_cast<std::size_t>(c)] = hasUvs ? uvBase + static_cast<std::int32_t>(idx) : -1;
+            t.tg[static_cast<std::size_t>(c)] = hasTangents ? tangentBase + static_cast<std::int32_t>(idx) : -1;
         }
         scene.triangles.push_back(t);
     }
+}
+
+/// Triangles a glTF file declares in its meshes (each mesh once, however many nodes place it): per
+/// primitive, from its index count (or its POSITION count without indices): mode 4 (the default) count / 3,
+/// strips and fans (5, 6) count - 2; -1 when some primitive's count cannot be read.
+std::int64_t gltfDeclaredTriangles(const nlohmann::json& gltf) {
+    std::int64_t total = 0;
+    const nlohmann::json meshes = member(gltf, "/meshes");
+    if (!meshes.is_array()) return 0;
+    for (const nlohmann::json& mesh : meshes) {
+        const nlohmann::json primitives = member(mesh, "/primitives");
+        if (!primitives.is_array()) continue;
+        for (const nlohmann::json& prim : primitives) {
+            const double mode = number(prim, "/mode", 4);
+            if (mode < 4) continue;  // points and lines: counted by checkWhatWasRead from what Assimp read
+            const nlohmann::json accessor = prim.contains("indices") ? prim["indices"] : member(prim, "/attributes/POSITION");
+            if (!accessor.is_number_unsigned()) return -1;
+            const double count = number(gltf, fmt::format("/accessors/{}/count", accessor.get<std::uint64_t>()), -1);
+            if (count < 0) return -1;
+            total += mode == 4 ? static_cast<std::int64_t>(count) / 3 : std::max<std::int64_t>(0, static_cast<std::int64_t>(count) - 2);
+        }
+    }
+    return total;
+}
+
+/// Says what the file holds that is not rendered, and where Assimp read less than the file declares:
+/// points and line segments (symphong draws triangles); for glTF, the triangles its meshes declare
+/// against those Assimp read (a mesh compressed with an extension Assimp 5.2 cannot decode, say).
+void checkWhatWasRead(const aiScene& ai, const nlohmann::json& gltf, const std::string& path, Scene& scene) {
+    std::uint64_t points = 0, lines = 0, triangles = 0;
+    for (unsigned i = 0; i < ai.mNumMeshes; ++i)
+        for (unsigned f = 0; f < ai.mMeshes[i]->mNumFaces; ++f) {
+            const unsigned n = ai.mMeshes[i]->mFaces[f].mNumIndices;
+            (n == 1 ? points : n == 2 ? lines : triangles) += 1;
+        }
+    if (points + lines > 0)
+        scene.warnings.push_back(fmt::format("{}: {} points and {} line segments are not drawn (symphong renders triangles only)", path,
+                                             points, lines));
+    if (!gltf.is_object()) return;
+    const std::int64_t declared = gltfDeclaredTriangles(gltf);
+    if (declared >= 0 && static_cast<std::uint64_t>(declared) != triangles)
+        scene.warnings.push_back(fmt::format("{}: the file's meshes declare {} triangles, but Assimp {} read {}: part of the geometry "
+                                             "is missing from the render",
+                                             path, declared, assimpVersion(), triangles));
 }
 
 /// The file's first camera, placed by its node.
@@ -390,10 +256,14 @@ Camera fileCamera(const aiScene& ai, const std::vector<std::pair<std::string, ai
     // the full <xfov> (or the full angle it computes from <yfov> and <aspect_ratio>). The vertical field
     // of view follows from the half-angle and the aspect ratio.
     const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
+    const bool dae = lowerExtension(path) == ".dae";
     double half = c.mHorizontalFOV;
     if (fbx && (aiGetVersionMajor() < 5 || (aiGetVersionMajor() == 5 && aiGetVersionMinor() < 3))) half *= 0.5;
-    if (lowerExtension(path) == ".dae") half *= 0.5;
-    camera.fovY = 2.0 * std::atan(std::tan(half) / aspect) * 180.0 / kPi;
+    if (dae) half *= 0.5;
+    // Blender writes the angle along the longer side (scene/exporter_conventions.h): the vertical one of
+    // a portrait picture.
+    const bool blenderPortrait = aspect < 1 && ((fbx && fbxWrittenByBlender(path)) || (dae && colladaWrittenByBlender(path)));
+    camera.fovY = (blenderPortrait ? 2.0 * half : 2.0 * std::atan(std::tan(half) / aspect)) * 180.0 / kPi;
     return camera;
 }
 
@@ -445,9 +315,20 @@ Scene loadAssimp(const std::string& path) {
     scene.name = std::filesystem::path(path).stem().string();
     TextureTable table(scene);
     const bool blender = lowerExtension(path) == ".fbx" && fbxWrittenByBlender(path);
-    for (unsigned i = 0; i < ai->mNumMaterials; ++i)
-        scene.materials.push_back(
-            mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), blender, table, scene, path));
+    // Geometry without a material gets the neutral default of an OBJ without MTL (docs/scene-format.md):
+    // Assimp's own stand-in (its "DefaultMaterial", or for glTF the material it appends after the file's
+    // own, which has glTF's defaults: a rough white metal) is not what the file's author saw.
+    const nlohmann::json gltfMaterials = member(gltf, "/materials");
+    const std::size_t fileMaterials = gltfMaterials.is_array() ? gltfMaterials.size() : 0;
+    for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
+        aiString name;
+        const bool standIn = gltf.is_object() ? i >= fileMaterials
+                                              : ai->mMaterials[i]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS &&
+                                                    std::string(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME;
+        scene.materials.push_back(standIn ? PhongMaterial{}
+                                          : mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), blender,
+                                                        table, scene, path));
+    }
     if (scene.materials.empty()) scene.materials.push_back(PhongMaterial{});
 
     const std::vector<std::pair<const aiNode*, aiMatrix4x4>> placed = worldTransforms(ai->mRootNode);
@@ -461,6 +342,7 @@ Scene loadAssimp(const std::string& path) {
         }
     }
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
+    checkWhatWasRead(*ai, gltf, path, scene);
     scene.camera = ai->mNumCameras > 0 ? fileCamera(*ai, nodes, gltf, path) : scene.automaticCamera();
     for (unsigned i = 0; i < ai->mNumLights; ++i) addLight(*ai->mLights[i], nodes, path, scene);
     return scene;

@@ -18,6 +18,16 @@ bool fbxWrittenByBlender(const std::string& path) {
     return fbx && (head.find("Blender (stable FBX IO)") != std::string::npos || head.find("Creator: \"Blender") != std::string::npos);
 }
 
+bool colladaWrittenByBlender(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return false;
+    std::string head(16 * 1024, '\0');  // <asset><contributor><authoring_tool> comes first in a COLLADA document
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    const auto tool = head.find("<authoring_tool>");
+    return tool != std::string::npos && head.compare(tool + 16, 7, "Blender") == 0;
+}
+
 void blenderPrincipledToPhong(const Color& base, double metallic, double specular, double roughness, Color& rhoD, Color& rhoS,
                               double& exponent) {
     const double f0 = std::clamp(0.08 * specular, 0.0, 1.0);

@@ -5,6 +5,8 @@
 // ((1 - Roughness) x 10)^2 and ReflectionFactor = Metallic (read from Blender 3.4's exporters and the
 // files they wrote, tests/data/blender). Read generically, its glossy materials come out several times too
 // shiny. The loaders recognise a file Blender wrote by its own stamp and invert its conversion instead.
+// Its FBX and Collada exporters also write the camera's angle along the longer side of the picture (its
+// default sensor fit, AUTO) as the horizontal one: for a portrait picture that is the vertical angle.
 #pragma once
 
 #include "materials/phong.h"
@@ -15,6 +17,8 @@ namespace symphong {
 
 /// Whether Blender wrote this FBX file: its header (binary or ASCII) names Blender as its creator.
 bool fbxWrittenByBlender(const std::string& path);
+/// Whether Blender wrote this Collada file: its <authoring_tool> (near the start) names Blender.
+bool colladaWrittenByBlender(const std::string& path);
 /// Whether Blender wrote this MTL text: its first line is Blender's comment ("# Blender 3.4.1 MTL File: ...").
 bool mtlWrittenByBlender(const std::string& text);
 

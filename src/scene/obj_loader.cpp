@@ -9,11 +9,13 @@
 #include "scene/scene.h"
 
 #include "scene/exporter_conventions.h"
+#include "scene/shading_normal.h"
 #include "scene/surface.h"
 
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -195,8 +197,8 @@ TextureRef mtlTexture(TextureTable& table, const std::string& dir, const std::st
     if (file.is_relative()) file = std::filesystem::path(dir) / file;
     ref.index = table.file(file.string(), encoding, where);
     if (ref.index < 0) return ref;
-    ref.scaleU = opt.scale[0], ref.scaleV = opt.scale[1], ref.offsetU = opt.origin_offset[0], ref.offsetV = opt.origin_offset[1];
-    if (!std::isfinite(ref.scaleU) || !std::isfinite(ref.scaleV) || !std::isfinite(ref.offsetU) || !std::isfinite(ref.offsetV))
+    ref.transform = {opt.scale[0], 0, opt.origin_offset[0], 0, opt.scale[1], opt.origin_offset[1]};
+    if (!std::all_of(ref.transform.begin(), ref.transform.end(), [](double x) { return std::isfinite(x); }))
         throw InputError(fmt::format("{}: texture '{}': its -s or -o option is not finite", where, name));
     const WrapMode wrap = opt.clamp ? WrapMode::Clamp : WrapMode::Repeat;
     ref.index = table.withWrap(ref.index, wrap, wrap);
@@ -219,6 +221,38 @@ void copyAttributes(const tinyobj::attrib_t& attrib, Scene& scene) {
         scene.normals.push_back(len > 0 ? n / len : Vec3(0, 0, 1));
     }
     for (std::size_t i = 0; i + 1 < attrib.texcoords.size(); i += 2) scene.uvs.push_back({attrib.texcoords[i], attrib.texcoords[i + 1]});
+}
+
+/// `norm` (a tangent-space normal map) and `bump`/`map_Bump` (a height map, or a normal map where
+/// Blender wrote the MTL or where the image looks like one: scene/shading_normal.h), each with its -bm.
+template <class Where>
+void attachNormalMaps(const tinyobj::material_t& mt, const MtlMaterial& stated, TextureTable& table, const std::string& mtlDir,
+                      const Where& where, Scene& scene, MaterialTextures& tx) {
+    const auto multiplier = [&](const tinyobj::texture_option_t& opt, const char* key) {
+        if (!std::isfinite(opt.bump_multiplier))
+            throw InputError(fmt::format("{}: its -bm option '{}' is not finite", where(key), opt.bump_multiplier));
+        return static_cast<double>(opt.bump_multiplier);
+    };
+    if (!mt.normal_texname.empty()) {
+        tx.normal = mtlTexture(table, mtlDir, mt.normal_texname, mt.normal_texopt, TextureEncoding::Linear, where("norm"));
+        tx.normalScale = multiplier(mt.normal_texopt, "norm");
+    }
+    if (mt.bump_texname.empty()) return;
+    const char* key = stated.keys.count("map_Bump") ? "map_Bump" : stated.keys.count("map_bump") ? "map_bump" : "bump";
+    const TextureRef ref = mtlTexture(table, mtlDir, mt.bump_texname, mt.bump_texopt, TextureEncoding::Linear, where(key));
+    if (!ref.present()) return;
+    const double bm = multiplier(mt.bump_texopt, key);
+    if (stated.blender || looksLikeNormalMap(scene.textures[static_cast<std::size_t>(ref.index)])) {
+        if (tx.normal.present()) {
+            scene.warnings.push_back(fmt::format("{}: a second normal map ('{}' besides its norm map); ignored", where(key), mt.bump_texname));
+            return;
+        }
+        tx.normal = ref;
+        tx.normalScale = bm;
+    } else {
+        tx.bump = ref;
+        tx.bumpScale = bm;
+    }
 }
 
 /// One MTL material as a Phong material with its texture maps; `keys` says which keys the file gave.
@@ -245,9 +279,9 @@ PhongMaterial objMaterial(const tinyobj::material_t& mt, const MtlMaterial& stat
                              where("map_Ns"));
     tx.alpha = mtlTexture(table, mtlDir, mt.alpha_texname, mt.alpha_texopt, TextureEncoding::Linear, where("map_d"));
     tx.emission = mtlTexture(table, mtlDir, mt.emissive_texname, mt.emissive_texopt, TextureEncoding::Srgb, where("map_Ke"));
+    attachNormalMaps(mt, stated, table, mtlDir, where, scene, tx);
     for (const auto& [key, file] :
-         {std::pair{"bump", mt.bump_texname}, std::pair{"norm", mt.normal_texname}, std::pair{"disp", mt.displacement_texname},
-          std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})
+         {std::pair{"disp", mt.displacement_texname}, std::pair{"refl", mt.reflection_texname}, std::pair{"map_Ka", mt.ambient_texname}})
         if (!file.empty())
             scene.warnings.push_back(
                 fmt::format("{}: material '{}': {} map '{}' is not supported by symphong; ignored", mtlFile, m.name, key, file));

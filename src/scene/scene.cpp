@@ -2,6 +2,7 @@
 
 #include "io/files.h"
 #include "io/input_error.h"
+#include "scene/tangents.h"
 
 #include <fmt/format.h>
 
@@ -126,6 +127,13 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
         for (std::int32_t i : t.t)
             if (i >= static_cast<std::int64_t>(scene.uvs.size()))
                 throw InputError(fmt::format("{}: a texture coordinate index is out of range", source));
+    for (const Tangent& t : scene.tangents)
+        if (!isFinite(t.t)) throw InputError(fmt::format("{}: a tangent is not finite", source));
+    for (const Triangle& t : scene.triangles)
+        for (std::int32_t i : t.tg)
+            if (i >= static_cast<std::int64_t>(scene.tangents.size()))
+                throw InputError(fmt::format("{}: a tangent index is out of range", source));
+    computeTangents(scene);  // for normal and bump maps on triangles whose file gave no tangents
     if (!scene.hasEmitter() && !environmentGiven) {
         scene.sky = Sky{};
         scene.lights.push_back(defaultSun());

@@ -29,10 +29,18 @@ struct Camera {
 };
 
 struct Triangle {
-    std::array<std::uint32_t, 3> v{};           ///< indices into Scene::positions
-    std::array<std::int32_t, 3> n{-1, -1, -1};  ///< indices into Scene::normals, -1 when absent
+    std::array<std::uint32_t, 3> v{};            ///< indices into Scene::positions
+    std::array<std::int32_t, 3> n{-1, -1, -1};   ///< indices into Scene::normals, -1 when absent
     std::uint32_t material = 0;
-    std::array<std::int32_t, 3> t{-1, -1, -1};  ///< indices into Scene::uvs, -1 when absent
+    std::array<std::int32_t, 3> t{-1, -1, -1};   ///< indices into Scene::uvs, -1 when absent
+    std::array<std::int32_t, 3> tg{-1, -1, -1};  ///< indices into Scene::tangents, -1 when absent
+};
+
+/// A vertex's tangent frame for normal maps: the unit tangent along increasing u, and the sign that
+/// makes sign x cross(n, tangent) the bitangent along increasing v (-1 where the texture is mirrored).
+struct Tangent {
+    Vec3 t{1, 0, 0};
+    double sign = 1;
 };
 
 struct Scene {
@@ -40,6 +48,7 @@ struct Scene {
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;               ///< optional smoothing normals (unit length)
     std::vector<std::array<double, 2>> uvs;  ///< optional texture coordinates (u right, v up)
+    std::vector<Tangent> tangents;           ///< tangent frames for normal and bump maps (from the file, or scene/tangents.h)
     std::vector<Triangle> triangles;
     std::vector<PhongMaterial> materials;
     std::vector<Texture> textures;  ///< what the materials' TextureRefs index

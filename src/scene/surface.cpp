@@ -15,8 +15,8 @@ namespace {
 
 /// Looks a TextureRef up at uv through its affine map.
 const Texture& lookup(const Scene& scene, const TextureRef& ref, const TexCoord& uv, double& u, double& v) {
-    u = uv.u * ref.scaleU + ref.offsetU;
-    v = uv.v * ref.scaleV + ref.offsetV;
+    u = ref.u(uv.u, uv.v);
+    v = ref.v(uv.u, uv.v);
     return scene.textures[static_cast<std::size_t>(ref.index)];
 }
 
