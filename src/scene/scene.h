@@ -2,8 +2,9 @@
 // radiance. Owns the built-in Cornell box and the loaders for Wavefront OBJ/MTL (through tinyobjloader)
 // and JSON scene files (through nlohmann-json); validates every number it reads, so the layers below
 // never see a NaN, a negative albedo or an out-of-range index. Textures on materials and the lookups that
-// turn them into Phong parameters at a point are in scene/surface.h; lat-long environment maps and their
-// importance sampling in scene/environment_map.h.
+// turn them into Phong parameters at a point are in scene/surface.h, normal and bump maps in
+// scene/shading_normal.h with their tangent frames in scene/tangents.h; lat-long environment maps and
+// their importance sampling in scene/environment_map.h.
 #pragma once
 
 #include "materials/phong.h"
