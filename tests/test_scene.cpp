@@ -232,3 +232,12 @@ TEST(StudyScenes, AllLoad) {
     const Scene d = loadScene((dir / "cornell-diffuse.json").string());
     EXPECT_FALSE(d.materials[d.findMaterial("tallBlock")].hasSpecular());
 }
+
+TEST(Obj, PolygonsAreFannedIntoAllTheirTrianglesWithoutAWarning) {
+    // Faces of 3, 4 and 5 corners make 1 + 2 + 3 triangles; the loader compares that with what it read
+    // and warns only when they differ.
+    test::TempDir dir;
+    const Scene s = loadScene(dir.write("p.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0\nf 1 2 3\nf 1 2 3 4\nf 1 2 3 5 4\n"));
+    EXPECT_EQ(s.triangles.size(), 6u);
+    for (const std::string& w : s.warnings) EXPECT_EQ(w.find("were read"), std::string::npos) << w;
+}

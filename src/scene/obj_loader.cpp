@@ -82,6 +82,7 @@ struct ObjScan {
     std::vector<std::string> mtllibs;
     std::uint64_t counts[3] = {0, 0, 0};  ///< v, vt, vn lines
     std::uint64_t corners = 0;            ///< face corners over all f lines
+    std::uint64_t triangles = 0;          ///< triangles the f lines make (a face of k corners: k - 2)
 };
 
 /// What an MTL file states for one material: the file, and the line of each keyword it gives (so a map
@@ -120,6 +121,7 @@ ObjScan validateObj(const std::string& path, const std::string& text) {
                 throw InputError(fmt::format("{}:{}: face has {} vertices, at least 3 are needed", path, line, w.size() - 1));
             static const char* kinds[3] = {"vertex", "texture", "normal"};
             scan.corners += w.size() - 1;
+            scan.triangles += w.size() - 3;
             for (std::size_t i = 1; i < w.size(); ++i) {
                 std::size_t start = 0;
                 for (int k = 0; k < 3 && start <= w[i].size(); ++k) {
@@ -388,6 +390,10 @@ Scene loadObj(const std::string& path) {
         scene.materials.push_back(m);
     }
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
+    if (scene.triangles.size() != scan.triangles)
+        scene.warnings.push_back(fmt::format("{}: its faces make {} triangles, but {} were read: part of the geometry is missing from "
+                                             "the render",
+                                             path, scan.triangles, scene.triangles.size()));
     scene.camera = scene.automaticCamera();
     return scene;
 }
