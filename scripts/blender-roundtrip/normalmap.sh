@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Blender's exports of one normal-mapped plane (tests/data/blender/normalmap, made by make_normal_map.py)
 # rendered by symphong, each compared with the glTF export and with Cycles' own picture of the scene
-# (cycles_reference.exr). Never run in CI; no Blender needed (the exports are in the repository).
+# (cycles_reference.exr), and the picture docs/images/normalmap-vs-cycles.png. Never run in CI; no Blender
+# needed (the exports are in the repository).
 #
 #   bash scripts/blender-roundtrip/normalmap.sh      # W=96 H=96 SPP=256 by default, WORK=out/normalmap
 set -euo pipefail
@@ -23,3 +24,27 @@ for f in scene.glb scene_tangents.glb scene.fbx scene_tspace.fbx obj_camera.json
   flip=$("$bin" compare "$out" "$work/scene_glb.exr" | sed -n 's/^FLIP *\([0-9.]*\).*/\1/p')
   echo "| $f | $(ratio "$out" "$work/scene_glb.exr") | $flip | $(ratio "$out" "$data/cycles_reference.exr") |"
 done
+
+# The picture of docs/validation.md: symphong's glTF render, Cycles' and the signed relative error.
+"$bin" compare "$work/scene_glb.exr" "$data/cycles_reference.exr" --error-map "$work/error.png" >/dev/null
+PYTHONPATH=$PWD/build/release/python /usr/bin/python3 - "$work" "$data" <<'PY'
+import sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import symphong
+work, data = sys.argv[1], sys.argv[2]
+ours = np.asarray(symphong.read_image(f"{work}/scene_glb.exr"))
+cycles = np.asarray(symphong.read_image(f"{data}/cycles_reference.exr"))
+tone = lambda x: np.clip(x / 0.6, 0, 1) ** (1 / 2.2)
+fig, ax = plt.subplots(1, 3, figsize=(9, 3.4), dpi=100)
+for a, img, title in ((ax[0], tone(ours), "symphong (scene.glb)"), (ax[1], tone(cycles), "Blender Cycles 3.4"),
+                      (ax[2], plt.imread(f"{work}/error.png"), "signed relative error")):
+    a.imshow(img, interpolation="nearest")
+    a.set_title(title, fontsize=9)
+    a.axis("off")
+plt.tight_layout()
+plt.savefig("docs/images/normalmap-vs-cycles.png")
+print("normalmap: docs/images/normalmap-vs-cycles.png")
+PY
