@@ -577,3 +577,18 @@ TEST(NormalMaps, DarkHalfOfEveryBumpMatchesCycles) {
     std::printf("dark half: symphong / Cycles = %.4f +- %.4f over %d pixels; bright half: %.4f\n", ours / theirs, se, dark,
                 oursBright / theirsBright);
 }
+
+TEST(NormalMaps, StrengthThatIsNotFiniteIsBadInput) {
+    for (bool bump : {false, true}) {
+        Scene s = mappedFloor(Mapping::Plain);
+        s.textures.push_back(constantTexture(Color(0.5, 0.5, 1.0)));
+        (bump ? s.materials[0].textures.bump : s.materials[0].textures.normal).index = 0;
+        (bump ? s.materials[0].textures.bumpScale : s.materials[0].textures.normalScale) = std::nan("");
+        try {
+            finalizeScene(s, "scene.fbx", false);
+            ADD_FAILURE() << "a NaN strength was accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("scene.fbx: material 'floor'"), std::string::npos) << e.what();
+        }
+    }
+}

@@ -74,6 +74,8 @@ void finalizeScene(Scene& scene, const std::string& source, bool environmentGive
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: the scene has no triangles", source));
     if (scene.materials.empty()) throw InputError(fmt::format("{}: the scene has no materials", source));
     for (PhongMaterial& m : scene.materials) {
+        if (!std::isfinite(m.textures.normalScale) || !std::isfinite(m.textures.bumpScale))
+            throw InputError(fmt::format("{}: material '{}' has a normal or bump map strength that is not finite", source, m.name));
         try {
             if (m.textures.reflectance()) {
                 // Textured: the constants are factors of the maps; rho_d + rho_s is kept <= 1 point by point

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <tuple>
+#include <unordered_map>
 
 namespace symphong {
 
@@ -66,11 +66,20 @@ Vec3 cornerNormal(const Scene& scene, const Triangle& tri, int k) {
 std::size_t computeTangents(Scene& scene) {
     // A vertex of the tangent space: position, normal, texture coordinate and handedness.
     using Key = std::tuple<std::uint32_t, std::int32_t, std::int32_t, int>;
+    struct KeyHash {
+        std::size_t operator()(const Key& k) const {
+            std::uint64_t h = std::get<0>(k);
+            h = h * 0x9E3779B97F4A7C15ull + static_cast<std::uint32_t>(std::get<1>(k));
+            h = h * 0x9E3779B97F4A7C15ull + static_cast<std::uint32_t>(std::get<2>(k));
+            h = h * 0x9E3779B97F4A7C15ull + static_cast<std::uint32_t>(std::get<3>(k) + 1);
+            return static_cast<std::size_t>(h ^ (h >> 29));
+        }
+    };
     struct Sum {
         Vec3 t{0.0};
         std::int32_t index = -1;
     };
-    std::map<Key, Sum> sums;
+    std::unordered_map<Key, Sum, KeyHash> sums;
     std::vector<std::size_t> todo;
     std::vector<int> signs;  // per entry of todo: +1, -1, or 0 where the triangle's uvs are degenerate
     std::vector<Vec3> faceTangent;
