@@ -18,15 +18,19 @@ ratio() {  # mean test / reference from symphong compare
 }
 echo "| export | mean / glTF's | FLIP against glTF's | mean / Cycles' |"
 echo "|---|---:|---:|---:|"
-for f in scene.glb scene_tangents.glb scene.fbx scene_tspace.fbx obj_camera.json scene_strength05.glb scene_strength05.fbx; do
-  out="$work/${f//./_}.exr"
-  "$bin" render "$data/$f" -W "$width" -H "$height" -s "$spp" --seed 7 -o "$out" >/dev/null 2>&1
+for run in scene.glb scene_tangents.glb scene.fbx scene_tspace.fbx obj_camera.json scene_strength05.glb scene_strength05.fbx \
+           "scene.glb --bump-shadowing"; do
+  read -r f flag <<<"$run"
+  out="$work/${f//./_}${flag:+_shadowing}.exr"
+  "$bin" render "$data/$f" $flag -W "$width" -H "$height" -s "$spp" --seed 7 -o "$out" >/dev/null 2>&1
   flip=$("$bin" compare "$out" "$work/scene_glb.exr" | sed -n 's/^FLIP *\([0-9.]*\).*/\1/p')
-  echo "| $f | $(ratio "$out" "$work/scene_glb.exr") | $flip | $(ratio "$out" "$data/cycles_reference.exr") |"
+  echo "| $run | $(ratio "$out" "$work/scene_glb.exr") | $flip | $(ratio "$out" "$data/cycles_reference.exr") |"
 done
 
-# The picture of docs/validation.md: symphong's glTF render, Cycles' and the signed relative error.
+# The picture of docs/validation.md: symphong's glTF render as it is and with --bump-shadowing, each with
+# its signed relative error against Cycles, and Cycles' own.
 "$bin" compare "$work/scene_glb.exr" "$data/cycles_reference.exr" --error-map "$work/error.png" >/dev/null
+"$bin" compare "$work/scene_glb_shadowing.exr" "$data/cycles_reference.exr" --error-map "$work/error_shadowing.png" >/dev/null
 PYTHONPATH=$PWD/build/release/python /usr/bin/python3 - "$work" "$data" <<'PY'
 import sys
 import matplotlib
@@ -35,15 +39,20 @@ import matplotlib.pyplot as plt
 import numpy as np
 import symphong
 work, data = sys.argv[1], sys.argv[2]
-ours = np.asarray(symphong.read_image(f"{work}/scene_glb.exr"))
-cycles = np.asarray(symphong.read_image(f"{data}/cycles_reference.exr"))
-tone = lambda x: np.clip(x / 0.6, 0, 1) ** (1 / 2.2)
-fig, ax = plt.subplots(1, 3, figsize=(9, 3.4), dpi=100)
-for a, img, title in ((ax[0], tone(ours), "symphong (scene.glb)"), (ax[1], tone(cycles), "Blender Cycles 3.4"),
-                      (ax[2], plt.imread(f"{work}/error.png"), "signed relative error")):
+tone = lambda x: np.clip(np.asarray(x) / 0.6, 0, 1) ** (1 / 2.2)
+panels = [
+    (tone(symphong.read_image(f"{work}/scene_glb.exr")), "symphong (scene.glb)"),
+    (plt.imread(f"{work}/error.png"), "its signed relative error vs Cycles"),
+    (tone(symphong.read_image(f"{data}/cycles_reference.exr")), "Blender Cycles 3.4"),
+    (tone(symphong.read_image(f"{work}/scene_glb_shadowing.exr")), "symphong --bump-shadowing"),
+    (plt.imread(f"{work}/error_shadowing.png"), "its signed relative error vs Cycles"),
+]
+fig, ax = plt.subplots(2, 3, figsize=(9, 6.4), dpi=100)
+for a in ax.flat:
+    a.axis("off")
+for a, (img, title) in zip(ax.flat, panels):
     a.imshow(img, interpolation="nearest")
     a.set_title(title, fontsize=9)
-    a.axis("off")
 plt.tight_layout()
 plt.savefig("docs/images/normalmap-vs-cycles.png")
 print("normalmap: docs/images/normalmap-vs-cycles.png")

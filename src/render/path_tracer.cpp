@@ -86,7 +86,8 @@ double PathTracer::emissionWeight(const Hit& hit, const Vec3& d, int depth, doub
 // (wo, towards the eye) or ng falls behind it, the unbent normal: the map cannot be honoured there, and
 // a black spot would be worse.
 Vec3 PathTracer::shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
-                               const Vec3& wo) const {
+                               const Vec3& wo, bool& bent) const {
+    bent = false;
     Vec3 ns = geometricNormals_[hit.prim];
     if (tri.n[0] >= 0) {
         const double b0 = 1.0 - hit.u - hit.v;
@@ -94,8 +95,11 @@ Vec3 PathTracer::shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& 
     }
     const double side = dot(ns, ng) < 0 ? -1.0 : 1.0;
     if (textures.perturbsNormal()) {
-        const Vec3 bent = perturbedNormal(scene_, tri, textures, hit.u, hit.v, uv, ns) * side;
-        if (dot(bent, wo) > 0 && dot(bent, ng) > 0) return bent;
+        const Vec3 mapped = perturbedNormal(scene_, tri, textures, hit.u, hit.v, uv, ns) * side;
+        if (dot(mapped, wo) > 0 && dot(mapped, ng) > 0) {
+            bent = true;
+            return mapped;
+        }
     }
     return ns * side;
 }
@@ -122,7 +126,10 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
 
     if (!frontFace) ng = -ng;
     const Vec3 toEye = normalize(-d);
-    const Frame frame = Frame::fromNormal(shadingNormal(tri, hit, ng, baseMaterial.textures, uv, toEye));
+    bool bent = false;
+    const Frame frame = Frame::fromNormal(shadingNormal(tri, hit, ng, baseMaterial.textures, uv, toEye, bent));
+    // --bump-shadowing: a bent normal's shading times Chiang et al.'s shadowing term (scene/shading_normal.h).
+    const bool shadowed = bent && settings_.bumpShadowing;
     const Vec3 wo = frame.toLocal(toEye);
     if (wo.z <= 0) return L;  // seen from behind its shading normal: reflects nothing
 
@@ -131,7 +138,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
     if (lightSampling_) {
         samples.setDimension(vertexDim + SampleDimensions::kLight);
-        L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats);
+        L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats, shadowed);
     }
 
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
@@ -161,7 +168,8 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
         const Vec3 wi = frame.toWorld(s.wi);
         if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
         const std::uint64_t nextPath = branching ? k + 1 : path;
-        Color next = throughput * s.weight * branches;
+        const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
+        Color next = throughput * weight * branches;
         double survive = 1.0;
         if (depth + 1 >= settings_.rrDepth) {
             survive = std::min(0.95, maxComponent(next));
@@ -169,9 +177,9 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
             if (!(survive > 0) || samples.get1D() >= survive) continue;
             next /= survive;
         }
-        if (!branching) return L + s.weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
+        if (!branching) return L + weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
         bundle->dirs.push_back(wi);
-        bundle->rays.push_back({s.weight, next, s.misPdf, survive, nextPath});
+        bundle->rays.push_back({weight, next, s.misPdf, survive, nextPath});
     }
     if (!bundle || bundle->rays.empty()) return L;
     return L + traceBundle(origin, *bundle, depth, pc);
@@ -235,14 +243,14 @@ double PathTracer::estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) con
 // towards it, the shadow ray, and f cos / p weighted against the estimator by the power heuristic (a
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
 Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
-                              TraceStats& stats) const {
+                              TraceStats& stats, bool shadowed) const {
     double pick = 0, uRemapped = 0;
     const Emitter& emitter = emitters_.pick(u.u, pick, uRemapped);
     EmitterSample s;
     if (!emitter.sample(p, {uRemapped, u.v}, pick, s) || dot(s.wi, ng) <= 0) return Color(0.0);
     const Vec3 wiLocal = frame.toLocal(s.wi);
     if (wiLocal.z <= 0) return Color(0.0);
-    const Color f = evalPhong(*sc.material, sc.wo, wiLocal);
+    const Color f = evalPhong(*sc.material, sc.wo, wiLocal) * (shadowed ? bumpShadowing(ng, frame.n, s.wi) : 1.0);
     if (isBlack(f)) return Color(0.0);
     const Vec3 origin = p + ng * epsilon_;
     ++stats.rays;

@@ -34,6 +34,9 @@ struct TraceSettings {
     /// Whether the first hit's first pair of estimator dimensions and the pixel position form one 4D
     /// pattern (Sampler::value2DJoint) instead of two independently matched pairs.
     bool jointFirstBounce = false;
+    /// Where a normal or bump map bent the shading normal, multiply the BRDF by the shadowing term of
+    /// Chiang, Li and Burley 2019 (scene/shading_normal.h bumpShadowing), as Blender Cycles does.
+    bool bumpShadowing = false;
 };
 
 struct TraceStats {
@@ -110,8 +113,10 @@ private:
                 PathContext& pc) const;
     /// A branching vertex's rays, traced together from `origin` and each continued as its own path.
     Color traceBundle(const Vec3& origin, RayBundle& bundle, int depth, PathContext& pc) const;
+    /// The shading normal on ng's side (the vertex normals', bent by a normal or bump map where it can be:
+    /// `bent`).
     Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
-                       const Vec3& wo) const;
+                       const Vec3& wo, bool& bent) const;
     double emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const;
     /// The estimator's misPdf at this vertex, times the first hit's split count k at depth 0 (k calls:
     /// the density of the whole set of directions, as MIS needs it).
@@ -121,7 +126,9 @@ private:
     /// Next-event estimation: one emitter chosen in proportion to its power, one direction towards it
     /// (the same for every kind of emitter), its shadow ray, and the power heuristic against the
     /// estimator's density (none for a delta emitter, which no path can hit).
-    Color directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats) const;
+    /// `shadowed`: the BRDF times bumpShadowing (--bump-shadowing at a bent normal).
+    Color directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
+                      bool shadowed) const;
     /// Radiance of a ray that left the scene along d: the background (MIS-weighted against its light
     /// sampling from the previous vertex when it is light-sampled).
     Color escaped(const Vec3& d, int depth, double prevMisPdf) const;

@@ -129,6 +129,10 @@ const schema::Schema<RenderOptions>& renderSchema() {
                       "directional lights are still sampled: nothing else can reach them)",
                       member(&RenderOptions::noNee))
                         .python("nee", true));
+        s.push_back(F("bump_shadowing", "--bump-shadowing",
+                      "where a normal or bump map bends the shading normal, dim the light that the bent normal faces more than the "
+                      "surface does (the shadowing term of Chiang et al. 2019, as Blender Cycles does; docs/scene-format.md)",
+                      member(&RenderOptions::bumpShadowing)));
         for (auto& f : schema::nested(estimatorOptionsSchema(), &RenderOptions::estimatorOptions)) s.push_back(std::move(f));
         addProgressiveFields(s);
         return s;
@@ -191,6 +195,7 @@ RenderSettings renderSettings(const RenderOptions& o) {
     settings.trace.firstHitSplit = o.split;
     settings.trace.firstBounceStream = o.firstBounceStream;
     settings.trace.jointFirstBounce = o.jointFirstBounce;
+    settings.trace.bumpShadowing = o.bumpShadowing;
     return settings;
 }
 

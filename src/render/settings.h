@@ -36,6 +36,7 @@ struct RenderOptions {
     int split = 1;
     std::uint32_t firstBounceStream = 0;
     bool jointFirstBounce = false;
+    bool bumpShadowing = false;
     EstimatorOptions estimatorOptions;
     // Progressive rendering (render/progressive.h, render/checkpoint.h).
     double time = 0;

@@ -87,6 +87,16 @@ Vec3 perturbedNormal(const Scene& scene, const Triangle& tri, const MaterialText
     return out;
 }
 
+double bumpShadowing(const Vec3& ng, const Vec3& ns, const Vec3& wi) {
+    const double denominator = dot(ns, wi) * dot(ns, ng);
+    if (!(denominator > 0)) return 1.0;  // lit from behind the bent normal: the BRDF is 0 there anyway
+    const double g = dot(ng, wi) / denominator;
+    if (g >= 1) return 1.0;
+    if (g < 0) return 0.0;
+    const double g2 = g * g;
+    return -g2 * g + g2 + g;
+}
+
 bool looksLikeNormalMap(const Texture& texture) {
     if (texture.channels() < 3 || texture.width() <= 0 || texture.height() <= 0) return false;
     std::size_t unit = 0, coloured = 0, total = 0;
