@@ -12,8 +12,10 @@ version=$(sed -n 's/^project(symphong VERSION \([0-9.]*\).*/\1/p' "$src/CMakeLis
 check_program() {  # the installed program and its man page
     "$1/bin/symphong" --version | grep -q "^symphong $version\$" || fail "$1/bin/symphong --version"
     "$1/bin/symphong" render -W 8 -H 8 -s 2 -o "$tmp/x.png" > /dev/null || fail "the installed program cannot render"
-    grep -q '^\.TH SYMPHONG 1' "$1/share/man/man1/symphong.1" || fail "no man page in $1/share/man/man1"
-    grep -q 'symphong render' "$1/share/man/man1/symphong.1" || fail "the man page lacks the render command"
+    local page="$1/share/man/man1/symphong.1.gz"  # gzipped, as Debian's policy asks
+    gzip -t "$page" 2>/dev/null || fail "no gzipped man page in $1/share/man/man1"
+    gzip -dc "$page" | grep -q '^\.TH SYMPHONG 1' || fail "the man page in $1/share/man/man1 has no .TH header"
+    gzip -dc "$page" | grep -q 'symphong render' || fail "the man page lacks the render command"
 }
 check_module() {  # the installed module, imported from its directory only
     (cd "$tmp" && PYTHONPATH="$1" python3 -c "
@@ -36,7 +38,7 @@ deb)
     (cd "$build" && cpack -G DEB -B "$tmp/deb" > "$tmp/cpack.log" 2>&1) || { cat "$tmp/cpack.log"; fail "cpack -G DEB"; }
     deb=$(ls "$tmp"/deb/*.deb)
     dpkg-deb -c "$deb" | awk '{print $6}' > "$tmp/contents"
-    for f in ./usr/bin/symphong ./usr/share/man/man1/symphong.1; do grep -qx "$f" "$tmp/contents" || fail "$f not in the package"; done
+    for f in ./usr/bin/symphong ./usr/share/man/man1/symphong.1.gz; do grep -qx "$f" "$tmp/contents" || fail "$f not in the package"; done
     grep -q '^\./usr/lib/python3/dist-packages/symphong\..*\.so$' "$tmp/contents" || fail "the module is not in the package"
     dpkg-deb -f "$deb" Depends | grep -q 'libembree3' || fail "the package does not depend on Embree"
     dpkg-deb -x "$deb" "$tmp/root"
