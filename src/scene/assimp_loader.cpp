@@ -219,19 +219,21 @@ void checkWhatWasRead(const aiScene& ai, const nlohmann::json& gltf, const std::
             (n == 1 ? points : n == 2 ? lines : triangles) += 1;
         }
     if (points + lines > 0)
-        scene.warnings.push_back(fmt::format("{}: {} points and {} line segments are not drawn (symphong renders triangles only)", path,
-                                             points, lines));
+        scene.warnings.push_back(
+            fmt::format("{}: {} points and {} line segments are not drawn (symphong renders triangles only)", path, points, lines));
     if (!gltf.is_object()) return;
     const std::int64_t declared = gltfDeclaredTriangles(gltf);
     if (declared >= 0 && static_cast<std::uint64_t>(declared) != triangles)
-        scene.warnings.push_back(fmt::format("{}: the file's meshes declare {} triangles, but Assimp {} read {}: part of the geometry "
-                                             "is missing from the render",
-                                             path, declared, assimpVersion(), triangles));
+        scene.warnings.push_back(
+            fmt::format("{}: the file's meshes declare {} triangles, but Assimp {} read {}: part of the geometry "
+                        "is missing from the render",
+                        path, declared, assimpVersion(), triangles));
 }
 
-/// The file's first camera, placed by its node.
+/// The file's first camera, placed by its node (`blender`: Blender wrote the file, whose FBX and Collada angles lie along
+/// the longer side of the picture).
 Camera fileCamera(const aiScene& ai, const std::vector<std::pair<std::string, aiMatrix4x4>>& nodes, const nlohmann::json& gltf,
-                  const std::string& path) {
+                  const std::string& path, bool blender) {
     const bool fbx = lowerExtension(path) == ".fbx";
     Camera camera;
     const aiCamera& c = *ai.mCameras[0];
@@ -262,7 +264,7 @@ Camera fileCamera(const aiScene& ai, const std::vector<std::pair<std::string, ai
     if (dae) half *= 0.5;
     // Blender writes the angle along the longer side (scene/exporter_conventions.h): the vertical one of
     // a portrait picture.
-    const bool blenderPortrait = aspect < 1 && ((fbx && fbxWrittenByBlender(path)) || (dae && colladaWrittenByBlender(path)));
+    const bool blenderPortrait = aspect < 1 && blender && (fbx || dae);
     camera.fovY = (blenderPortrait ? 2.0 * half : 2.0 * std::atan(std::tan(half) / aspect)) * 180.0 / kPi;
     return camera;
 }
@@ -308,13 +310,14 @@ Scene loadAssimp(const std::string& path) {
     checkAssimpInChild(path);  // a crash or runaway allocation inside Assimp is an InputError
     Assimp::Importer importer;
     const aiScene* ai = importWithAssimp(importer, path);
-    if (!ai)
-        throw InputError(fmt::format("{}: cannot read it (Assimp: {})", path, importer.GetErrorString()));
+    if (!ai) throw InputError(fmt::format("{}: cannot read it (Assimp: {})", path, importer.GetErrorString()));
 
     Scene scene;
     scene.name = std::filesystem::path(path).stem().string();
     TextureTable table(scene);
-    const bool blender = lowerExtension(path) == ".fbx" && fbxWrittenByBlender(path);
+    // Whether Blender wrote the file (its FBX material numbers and its FBX/Collada camera angles).
+    const std::string ext = lowerExtension(path);
+    const bool blender = (ext == ".fbx" && fbxWrittenByBlender(path)) || (ext == ".dae" && colladaWrittenByBlender(path));
     // Geometry without a material gets the neutral default of an OBJ without MTL (docs/scene-format.md):
     // Assimp's own stand-in (its "DefaultMaterial", or for glTF the material it appends after the file's
     // own, which has glTF's defaults: a rough white metal) is not what the file's author saw.
@@ -325,9 +328,9 @@ Scene loadAssimp(const std::string& path) {
         const bool standIn = gltf.is_object() ? i >= fileMaterials
                                               : ai->mMaterials[i]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS &&
                                                     std::string(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME;
-        scene.materials.push_back(standIn ? PhongMaterial{}
-                                          : mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), blender,
-                                                        table, scene, path));
+        scene.materials.push_back(
+            standIn ? PhongMaterial{}
+                    : mapMaterial(*ai, *ai->mMaterials[i], i, member(gltf, fmt::format("/materials/{}", i)), blender, table, scene, path));
     }
     if (scene.materials.empty()) scene.materials.push_back(PhongMaterial{});
 
@@ -343,7 +346,7 @@ Scene loadAssimp(const std::string& path) {
     }
     if (scene.triangles.empty()) throw InputError(fmt::format("{}: no triangles in the file", path));
     checkWhatWasRead(*ai, gltf, path, scene);
-    scene.camera = ai->mNumCameras > 0 ? fileCamera(*ai, nodes, gltf, path) : scene.automaticCamera();
+    scene.camera = ai->mNumCameras > 0 ? fileCamera(*ai, nodes, gltf, path, blender) : scene.automaticCamera();
     for (unsigned i = 0; i < ai->mNumLights; ++i) addLight(*ai->mLights[i], nodes, path, scene);
     return scene;
 }

@@ -76,7 +76,8 @@ TextureRef assimpTexture(const aiScene& ai, const aiMaterial& m, aiTextureType t
 /// coordinates (texCoord > 0) is not read: a warning.
 std::array<double, 6> gltfTextureTransform(const nlohmann::json& info, const std::string& where, Scene& scene) {
     if (number(info, "/texCoord", 0) != 0 || number(info, "/extensions/KHR_texture_transform/texCoord", 0) != 0)
-        scene.warnings.push_back(fmt::format("{}: uses a second set of texture coordinates (texCoord); symphong reads only the first", where));
+        scene.warnings.push_back(
+            fmt::format("{}: uses a second set of texture coordinates (texCoord); symphong reads only the first", where));
     const nlohmann::json x = member(info, "/extensions/KHR_texture_transform");
     if (!x.is_object()) return {1, 0, 0, 0, 1, 0};
     const double ox = number(x, "/offset/0", 0), oy = number(x, "/offset/1", 0), r = number(x, "/rotation", 0);
@@ -168,7 +169,8 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
         if (tx.exponent.present() && m.Get(AI_MATKEY_SHININESS, shininess) != AI_SUCCESS) out.exponent = 1000;
     }
     attachNormalMaps(m, tex, gltf, scene, where, tx);
-    for (const auto& [type, what] : {std::pair{aiTextureType_DISPLACEMENT, "displacement"}, std::pair{aiTextureType_LIGHTMAP, "occlusion/light"}})
+    for (const auto& [type, what] :
+         {std::pair{aiTextureType_DISPLACEMENT, "displacement"}, std::pair{aiTextureType_LIGHTMAP, "occlusion/light"}})
         if (m.GetTextureCount(type) > 0)
             scene.warnings.push_back(
                 fmt::format("{}: material '{}': its {} map is not supported by symphong; ignored", path, out.name, what));
@@ -176,14 +178,13 @@ void attachTextures(const aiScene& ai, const aiMaterial& m, PhongMaterial& out, 
     if (!tx.alpha.present()) tx.alpha = tex(aiTextureType_OPACITY, TextureEncoding::Linear);
 }
 
-
 /// A glTF material's dielectric reflectance at normal incidence: ((ior - 1) / (ior + 1))^2 (0.04 at the
 /// default ior 1.5; KHR_materials_ior), times KHR_materials_specular's specularColorFactor, at most 1,
 /// times its specularFactor. Blender writes specularColorFactor 0 for "Specular 0".
 Color gltfSpecularF0(const nlohmann::json& material) {
     const auto nonNegative = [&](const char* pointer, double fallback) {
-        const nlohmann::json v = member(material, pointer);
-        return v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0 ? v.get<double>() : fallback;
+        const double v = number(material, pointer, fallback);
+        return v >= 0 ? v : fallback;
     };
     const double ior = nonNegative("/extensions/KHR_materials_ior/ior", 1.5);
     const double r = (ior - 1) / (ior + 1);
@@ -224,7 +225,7 @@ void mapPhongMaterial(const aiMaterial& m, const std::string& path, bool blender
         out.rhoS *= std::max(0.0, static_cast<double>(strength));
     int model = 0;
     if (ext == ".dae" && m.Get(AI_MATKEY_SHADING_MODEL, model) == AI_SUCCESS) {
-        if (model == aiShadingMode_Gouraud) out.rhoS = Color(0.0);  // <lambert>
+        if (model == aiShadingMode_Gouraud) out.rhoS = Color(0.0);               // <lambert>
         if (model == aiShadingMode_NoShading) out.rhoD = out.rhoS = Color(0.0);  // <constant>: emission only
     }
     if (isBlack(out.rhoS)) out.exponent = std::max(out.exponent, 1.0);
@@ -272,9 +273,8 @@ PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t in
     if (m.Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) out.emission = toColor(e);
     float strength = 1;
     if (m.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength) == AI_SUCCESS && strength != 1.0f) out.emission *= static_cast<double>(strength);
-    const nlohmann::json gltfStrength = member(gltf, "/extensions/KHR_materials_emissive_strength/emissiveStrength");
-    if (gltfStrength.is_number() && std::isfinite(gltfStrength.get<double>()) && gltfStrength.get<double>() >= 0)
-        out.emission *= gltfStrength.get<double>();
+    const double gltfStrength = number(gltf, "/extensions/KHR_materials_emissive_strength/emissiveStrength", 1.0);
+    if (gltfStrength >= 0) out.emission *= gltfStrength;
     attachTextures(ai, m, out, pbr, base, metallic, roughness, gltf, table, scene, path);
     return out;
 }

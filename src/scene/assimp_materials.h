@@ -25,7 +25,7 @@ nlohmann::json member(const nlohmann::json& j, const std::string& pointer);
 double number(const nlohmann::json& j, const std::string& pointer, double fallback);
 
 /// Material `index` of the file at `path`: its Phong parameters by the format's conventions (`gltf`: the
-/// material's own glTF JSON, null for other formats; `blender`: an FBX that Blender wrote), with its
+/// material's own glTF JSON, null for other formats; `blender`: Blender wrote the file, which changes FBX's numbers), with its
 /// textures loaded into `table` and notes added to scene.warnings.
 PhongMaterial mapMaterial(const aiScene& ai, const aiMaterial& m, std::size_t index, const nlohmann::json& gltf, bool blender,
                           TextureTable& table, Scene& scene, const std::string& path);
