@@ -33,7 +33,7 @@ TEST(EstimatorTable, EveryEntryCreatesWhatItNamesWithItsTraits) {
     }
     EXPECT_EQ(names.size(), estimatorNames().size());
     EXPECT_EQ(findEstimator("bogus"), nullptr);
-    EXPECT_EQ(yardstickEstimator(), "cosine");
+    EXPECT_EQ(yardstickEstimator(), "phong");
 }
 
 TEST(EstimatorTable, ParametersAreCheckedByTheEstimatorsThatReadThem) {
@@ -51,6 +51,16 @@ TEST(EstimatorTable, ParametersAreCheckedByTheEstimatorsThatReadThem) {
         EXPECT_STREQ(e.what(), "--symmetric-orbit 3 is not one of 1, 2, 4, 8");
     }
     EXPECT_NO_THROW(makeEstimator("symmetric", badOrbit)) << "symmetric has no orbit";
+    // The trait that the study's orbit variants go by: exactly the estimators that check the orbit.
+    for (const EstimatorEntry& e : estimatorTable()) {
+        bool refused = false;
+        try {
+            e.create(badOrbit);
+        } catch (const std::invalid_argument&) {
+            refused = true;
+        }
+        EXPECT_EQ(refused, e.traits.takesOrbit) << e.name;
+    }
     try {
         makeEstimator("bogus");
         FAIL();

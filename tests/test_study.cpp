@@ -5,14 +5,23 @@
 #include "io/image.h"
 #include "io/input_error.h"
 #include "compare/metrics.h"
+#include "study/comparisons.h"
 #include "study/study.h"
 #include "test_util.h"
+#include "util/cpu_time.h"
+
+#include <fmt/format.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <csignal>
+#include <ctime>
 #include <filesystem>
+#include <map>
+#include <sstream>
+#include <thread>
 
 #include <unistd.h>
 
@@ -38,7 +47,7 @@ fs::path freshDir(const std::string& name) {
 
 StudyConfig tinyConfig(const fs::path& dir) {
     StudyConfig c;
-    c.estimators = {"cosine", "paper"};
+    c.estimators = {"cosine", "phong", "paper"};
     c.spps = {16, 64};
     c.repeats = 2;
     c.width = c.height = 16;
@@ -160,11 +169,14 @@ TEST_F(TinyStudy, CsvHasAStableSchemaAndOneRowPerRender) {
               "scene,estimator,variant,sampler,mode,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
               "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
               "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance,split,"
-              "group_first_bounce_variance");
-    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2 * 2);
-    EXPECT_EQ(outcome_->rows.size(), 8u);
+              "group_first_bounce_variance,cpu_seconds,cost,paths,orbit");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 2 * 2);
+    EXPECT_EQ(outcome_->rows.size(), 12u);
     for (const StudyRow& r : outcome_->rows) {
         EXPECT_GT(r.seconds, 0);
+        EXPECT_GT(r.cpuSeconds, 0);
+        EXPECT_EQ(r.cost, r.cpuSeconds) << "the default cost is CPU time";
+        EXPECT_DOUBLE_EQ(r.efficiency, 1.0 / (r.mse * r.cost));
         EXPECT_GT(r.rays, 0u);
         EXPECT_EQ(r.samples, 16u * 16u * r.spp);
         EXPECT_GT(r.rmse, 0);
@@ -236,15 +248,22 @@ TEST(StudyBudget, FirstBounceVarianceIsMeasuredAtTheTopSpp) {
 TEST_F(TinyStudy, JsonHasConfigRowsSummaryAndConclusion) {
     const auto j = nlohmann::json::parse(readAll(*dir_ / "results.json"));
     for (const char* key : {"config", "rows", "summary", "conclusion"}) EXPECT_TRUE(j.contains(key)) << key;
-    EXPECT_EQ(j["rows"].size(), 8u);
-    EXPECT_EQ(j["summary"].size(), 4u);
+    EXPECT_EQ(j["rows"].size(), 12u);
+    EXPECT_EQ(j["summary"].size(), 6u);
     for (const char* key : {"estimator", "variant", "sampler", "mode", "spp", "repeat", "seconds", "rays", "rmse", "relmse", "mse",
                             "efficiency", "group_relative_bias", "group_bias_std_error", "group_bias_significant", "group_pixel_variance"})
         EXPECT_TRUE(j["rows"][0].contains(key)) << key;
-    for (const char* key : {"estimator", "spp", "seconds", "rmse", "rmse_spread", "efficiency", "relative_bias", "bias_significant"})
+    for (const char* key : {"estimator", "spp", "repeats", "seconds", "cpu_seconds", "cost", "rmse", "rmse_spread", "efficiency",
+                            "relative_bias", "bias_significant"})
         EXPECT_TRUE(j["summary"][0].contains(key)) << key;
-    for (const char* key : {"estimators", "samplers", "variants", "spp", "repeats", "reference", "heatmap"})
+    for (const char* key : {"estimators", "samplers", "variants", "spp", "repeats", "reference", "heatmap", "cost", "target_interval"})
         EXPECT_TRUE(j["config"].contains(key)) << key;
+    EXPECT_EQ(j["config"]["cost"], "cpu");
+    EXPECT_EQ(j["stopped_by"], "fixed");
+    ASSERT_EQ(j["comparisons"].size(), 2u) << "cosine and paper against phong";
+    EXPECT_EQ(j["comparisons"][0]["variant"], "cosine");
+    EXPECT_EQ(j["comparisons"][0]["against"], "phong");
+    EXPECT_EQ(j["comparisons"][1]["biased"], true);
 }
 
 // --samplers and --symmetric-modes: one variant per estimator x sampler (x mode for the set estimators),
@@ -285,7 +304,7 @@ TEST(StudyVariants, SamplersAndModesMakeVariants) {
 TEST_F(TinyStudy, WritesTheReportHeatmapsAndRenders) {
     const std::string report = readAll(*dir_ / "details.md");
     EXPECT_NE(report.find("## Conclusion in words"), std::string::npos);
-    EXPECT_NE(report.find("## Equal time"), std::string::npos);
+    EXPECT_NE(report.find("## Equal cost"), std::string::npos);
     EXPECT_NE(report.find("| paper | 64 |"), std::string::npos) << report;
     for (const char* f : {"reference.exr", "reference.json", "reference.png", "renders/cosine.png", "renders/paper.png", "heatmaps/cosine.f32",
                           "renders/cosine@16spp.exr", "renders/paper@64spp.exr", "report.html"})
@@ -304,14 +323,17 @@ TEST_F(TinyStudy, ReportMdStartsWithTheAnswerAndOneTablePerMeasure) {
     const std::string lines = report.substr(answer + 15, end - answer - 15);
     const long count = std::count(lines.begin(), lines.end(), '\n') + 1;
     EXPECT_LE(count, 10) << lines;
-    EXPECT_NE(lines.find("**Most efficient by MSE** at 64 spp: `cosine`"), std::string::npos) << lines;  // `paper` is biased
+    EXPECT_NE(lines.find("**Most efficient by MSE** at 64 spp: `"), std::string::npos) << lines;
+    EXPECT_EQ(lines.find("**Most efficient by MSE** at 64 spp: `paper`"), std::string::npos) << "`paper` is biased: " << lines;
     EXPECT_NE(lines.find("`paper` "), std::string::npos) << "the bias line names it: " << lines;
-    EXPECT_NE(lines.find("95% bootstrap interval"), std::string::npos) << lines;
-    for (const char* title : {"## Efficiency by MSE, relative to `cosine` (95% interval)", "## Efficiency by relMSE, relative to `cosine`",
-                              "## RMSE of luminance (95% interval)"})
+    EXPECT_NE(lines.find("[a, b] their 95% interval (delta method)"), std::string::npos) << lines;
+    EXPECT_NE(lines.find("1/(MSE x CPU time)"), std::string::npos) << "the report says which cost it used: " << lines;
+    EXPECT_NE(lines.find("Repeats: 2 per variant"), std::string::npos) << lines;
+    for (const char* title : {"## Efficiency by MSE, relative to `phong` (95% interval)", "## Efficiency by relMSE, relative to `phong`",
+                              "## RMSE of luminance (95% interval)", "## Repeats and cost at 64 spp"})
         EXPECT_NE(report.find(title), std::string::npos) << title;
     EXPECT_NE(report.find("| variant | 16 spp | 64 spp |"), std::string::npos) << report;
-    EXPECT_NE(report.find("| `cosine` | 1x | 1x |"), std::string::npos) << report;
+    EXPECT_NE(report.find("| `phong` | 1x | 1x |"), std::string::npos) << report;
     EXPECT_NE(report.find("| `paper` (biased) |"), std::string::npos) << report;
     EXPECT_NE(report.find("[report.html](report.html)"), std::string::npos);
 }
@@ -365,7 +387,7 @@ TEST_F(TinyStudy, ReportHtmlCarriesEveryRenderAndItsErrors) {
     ASSERT_FALSE(d.is_null());
     EXPECT_EQ(d["width"], 16);
     EXPECT_EQ(d["spp"], (std::vector<int>{16, 64}));
-    ASSERT_EQ(d["variants"].size(), 2u);
+    ASSERT_EQ(d["variants"].size(), 3u);
     const Image ref = readExr((*dir_ / "reference.exr").string());
     const auto refBytes = decodeBase64(d["reference"]["image"].get<std::string>());
     ASSERT_EQ(refBytes.size(), 16u * 16u * 6u);
@@ -389,7 +411,7 @@ TEST_F(TinyStudy, ReportHtmlCarriesEveryRenderAndItsErrors) {
             EXPECT_NEAR(e["rmse"].get<double>(), imageError(exr, ref).rmse, 1e-12) << label;
         }
     }
-    EXPECT_EQ(d["tables"].size(), 3u);
+    EXPECT_EQ(d["tables"].size(), 4u);
     EXPECT_LE(d["answer"].size(), 10u);
 }
 
@@ -602,4 +624,223 @@ TEST(Study, InterruptFromTheCommandLineKeepsTheFinishedRows) {
 TEST(StudyMetrics, LuminanceVarianceTakesTheChannelsAsCorrelated) {
     EXPECT_NEAR(luminanceVariance(Color(0.04)), 0.04, 1e-15);  // grey: Var(Y) = Var(X) when X = R = G = B
     EXPECT_NEAR(luminanceVariance(Color(0, 0.01, 0)), 0.7152 * 0.7152 * 0.01, 1e-15);
+}
+
+// ----------------------------------------------------------------------------------------------------
+// Cost, repeats until the answer is sure, fair pairs
+
+// The CPU clock of the process counts every thread's work and not its waiting: two threads that each
+// burn 0.15 s of their own CPU clock (a second method: CLOCK_THREAD_CPUTIME_ID) add 0.3 s; a sleep adds none.
+TEST(StudyCost, CpuTimeCountsEveryThreadsWorkAndNotItsWaiting) {
+    const auto threadCpu = [] {
+        timespec t{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+        return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+    };
+    const auto burn = [&] {
+        const double start = threadCpu();
+        volatile double x = 0;
+        while (threadCpu() - start < 0.15) x = x + 1;
+    };
+    double before = processCpuSeconds();
+    std::thread a(burn), b(burn);
+    a.join();
+    b.join();
+    const double busy = processCpuSeconds() - before;
+    EXPECT_GE(busy, 0.30);
+    EXPECT_LT(busy, 0.36) << "only the two threads ran";
+    before = processCpuSeconds();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    EXPECT_LT(processCpuSeconds() - before, 0.02);
+}
+
+namespace {
+
+/// A floor far larger than the view, looked at from above, lit by a point light: with max depth 1 and
+/// `cosine`, a camera sample traces its camera ray, one shadow ray and one ray per direction from the floor.
+std::string floorScene(const test::TempDir& dir) {
+    dir.write("floor.obj", "v -100 0 -100\nv 100 0 -100\nv 100 0 100\nv -100 0 100\nf 1 3 2\nf 1 4 3\n");
+    return dir.write("floor.json", R"({"obj": "floor.obj", "camera": {"position": [0, 1, 0], "target": [0, 0, 0], "up": [0, 0, -1], "fov": 40},
+      "environment": 0, "lights": [{"type": "point", "position": [0, 2, 0], "intensity": 1}]})");
+}
+
+}  // namespace
+
+TEST(StudyCost, RaysAndPathsEqualACountMadeByHand) {
+    const test::TempDir dir;
+    const Scene scene = loadScene(floorScene(dir));
+    const Accel accel(scene);
+    const auto est = makeEstimator("cosine");
+    RenderSettings s;
+    s.width = s.height = 8;
+    s.spp = 4;
+    s.trace.maxDepth = 1;
+    const std::uint64_t samples = 8 * 8 * 4;
+    for (int split : {1, 3}) {
+        s.trace.firstHitSplit = split;
+        const RenderResult r = render(scene, accel, *est, s);
+        EXPECT_EQ(r.stats.samples, samples);
+        EXPECT_EQ(r.stats.rays, samples * (2 + split)) << "camera + shadow + " << split << " from the floor";
+        EXPECT_EQ(r.stats.paths, samples * split);
+        EXPECT_GT(r.stats.cpuSeconds, 0.0);
+    }
+    // The study's rays cost is that count.
+    StudyConfig c;
+    c.scene = floorScene(dir);
+    c.estimators = {"cosine", "phong"};
+    c.spps = {4};
+    c.repeats = 2;
+    c.width = c.height = 8;
+    c.maxDepth = 1;
+    c.referenceSpp = 16;
+    c.cost = StudyCost::Rays;
+    c.outDir = dir.file("study");
+    c.plots = false;
+    for (const StudyRow& r : runStudy(c).rows) {
+        EXPECT_EQ(r.cost, static_cast<double>(samples * 3)) << r.variant;
+        EXPECT_DOUBLE_EQ(r.efficiency, 1.0 / (r.mse * r.cost));
+    }
+    EXPECT_NE(readAll(fs::path(c.outDir) / "report.md").find("1/(MSE x rays traced)"), std::string::npos);
+}
+
+namespace {
+
+/// The rows of results.csv as maps from column name to text.
+std::vector<std::map<std::string, std::string>> csvRows(const fs::path& file) {
+    std::istringstream in(readAll(file));
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> names;
+    for (std::string::size_type a = 0, b; a <= line.size(); a = b + 1) {
+        b = std::min(line.find(',', a), line.size());
+        names.push_back(line.substr(a, b - a));
+    }
+    std::vector<std::map<std::string, std::string>> rows;
+    while (std::getline(in, line)) {
+        std::map<std::string, std::string> row;
+        std::size_t i = 0;
+        for (std::string::size_type a = 0, b; a <= line.size() && i < names.size(); a = b + 1, ++i) {
+            b = std::min(line.find(',', a), line.size());
+            row[names[i]] = line.substr(a, b - a);
+        }
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+}  // namespace
+
+// Fair pairs: `symmetric-mix` with an orbit of 2 against `phong` split 2 ways, and its spread mode against
+// plain `phong`, each a line of the answer with its verdict; the factor in the line and in results.json is
+// computed again here from results.csv (mean MSE x mean cost, repeats paired by number).
+TEST(StudyFairPairs, PairLinesCompareEqualPathsAndMatchTheCsv) {
+    const fs::path dir = freshDir("pairs");
+    StudyConfig c = tinyConfig(dir);
+    c.estimators = {"phong", "symmetric-mix"};
+    c.modes = {SymmetricMode::Branch, SymmetricMode::Spread};
+    c.splits = {2};
+    c.splitEstimators = {"phong"};
+    c.orbits = {2};
+    c.spps = {8};
+    c.repeats = 3;
+    c.referenceSpp = 128;
+    const StudyOutcome o = runStudy(c);
+    std::vector<std::string> labels;
+    for (const StudyVariant& v : studyVariants(c)) labels.push_back(v.label);
+    EXPECT_EQ(labels, (std::vector<std::string>{"phong", "phong+split2", "symmetric-mix+orbit2", "symmetric-mix+spread"}));
+    std::string answer;
+    for (const std::string& l : o.answer) answer += l + "\n";
+    EXPECT_NE(answer.find("`symmetric-mix+orbit2` against `phong+split2` (2 paths per camera sample): **"), std::string::npos) << answer;
+    EXPECT_NE(answer.find("`symmetric-mix+spread` against `phong` (one path per camera sample): **"), std::string::npos) << answer;
+    EXPECT_NE(answer.find("of 2 fair pairs"), std::string::npos) << answer;
+    // Paths: split 2 starts two per camera sample; the orbit two where the first hit branches.
+    for (const StudyRow& r : o.rows) {
+        const std::uint64_t k = r.variant == "phong+split2" || r.variant == "symmetric-mix+orbit2" ? 2 : 1;
+        EXPECT_LE(r.paths, k * r.samples) << r.variant;
+        EXPECT_GE(r.paths, k == 2 ? r.samples * 3 / 2 : r.samples) << r.variant;
+        EXPECT_EQ(r.orbit, r.variant == "symmetric-mix+orbit2" ? 2 : r.estimator == "symmetric-mix" ? 2 : 0) << r.variant;
+    }
+    // The same factors from the CSV.
+    const auto rows = csvRows(dir / "results.csv");
+    const auto product = [&](const std::string& variant) {
+        double mse = 0, cost = 0, n = 0;
+        for (const auto& r : rows)
+            if (r.at("variant") == variant) mse += std::stod(r.at("mse")), cost += std::stod(r.at("cost")), ++n;
+        return (mse / n) * (cost / n);
+    };
+    const auto j = nlohmann::json::parse(readAll(dir / "results.json"));
+    int pairs = 0;
+    for (const auto& cmp : j["comparisons"]) {
+        if (!cmp["fair_pair"].get<bool>()) continue;
+        ++pairs;
+        const std::string a = cmp["variant"], b = cmp["against"];
+        const double expected = product(b) / product(a);
+        EXPECT_NEAR(cmp["mse"]["ratio"].get<double>(), expected, 2e-5 * expected) << a;
+        EXPECT_NE(answer.find(fmt::format("`{}` against `{}`", a, b)), std::string::npos);
+        EXPECT_NE(answer.find(fmt::format("{:#.2g}x [", expected)), std::string::npos) << a << " " << expected << "\n" << answer;
+        EXPECT_EQ(cmp["repeats_variant"], 3);
+    }
+    EXPECT_EQ(pairs, 2);
+    fs::remove_all(dir);
+}
+
+// --target-interval with --time: rounds of repeats at the top spp only, until the budget; the report and
+// results.json say what stopped it. With --max-repeats: no variant beyond it.
+TEST(StudyRepeats, TimeAndMaxRepeatsStopTheRoundsAndTheReportSaysSo) {
+    const fs::path dir = freshDir("rounds");
+    StudyConfig c = tinyConfig(dir);
+    c.estimators = {"cosine", "phong"};
+    c.width = c.height = 12;
+    c.spps = {2, 4};
+    c.repeats = 2;
+    c.referenceSpp = 64;
+    c.targetInterval = 0.001;  // not reachable in a test
+    c.timeLimit = 1.0;
+    StudyOutcome o = runStudy(c);
+    EXPECT_EQ(o.stoppedBy, "time");
+    EXPECT_LT(o.studySeconds, 3.0);
+    for (const char* v : {"cosine", "phong"}) {
+        EXPECT_EQ(repeatsOf(o.rows, v, 2), 2) << "the lower spp keeps --repeats";
+        EXPECT_GT(repeatsOf(o.rows, v, 4), 2) << "rounds were added at the top spp";
+    }
+    std::string answer;
+    for (const std::string& l : o.answer) answer += l + "\n";
+    EXPECT_NE(answer.find("stopped by the --time budget"), std::string::npos) << answer;
+    EXPECT_NE(readAll(dir / "report.md").find("stopped by the --time budget"), std::string::npos);
+    EXPECT_EQ(nlohmann::json::parse(readAll(dir / "results.json"))["stopped_by"], "time");
+    // Repeats are numbered 0, 1, 2, ... in every variant: paired by number (and seed) with the yardstick.
+    for (const char* v : {"cosine", "phong"}) {
+        std::vector<int> reps;
+        for (const StudyRow& r : o.rows)
+            if (r.variant == v && r.spp == 4) reps.push_back(r.repeat);
+        for (std::size_t i = 0; i < reps.size(); ++i) EXPECT_EQ(reps[i], static_cast<int>(i)) << v;
+    }
+    fs::remove_all(dir);
+    c.timeLimit = 0;
+    c.maxRepeats = 4;
+    o = runStudy(c);
+    EXPECT_EQ(o.stoppedBy, "max-repeats");
+    for (const char* v : {"cosine", "phong"}) EXPECT_EQ(repeatsOf(o.rows, v, 4), 4) << v;
+    fs::remove_all(dir);
+}
+
+TEST(StudyRepeats, BadTargetsAreInputErrors) {
+    const fs::path dir = freshDir("bad-target");
+    StudyConfig c = tinyConfig(dir);
+    c.targetInterval = -1;
+    EXPECT_THROW(runStudy(c), InputError);
+    c = tinyConfig(dir);
+    c.targetInterval = 0.1;
+    c.repeats = 1;
+    EXPECT_THROW(runStudy(c), InputError);
+    c = tinyConfig(dir);
+    c.orbits = {3};
+    EXPECT_THROW(runStudy(c), InputError);
+    const auto [code, err] = [&] {
+        const test::CliRun r = test::runCliArgs({"study", "--cost", "seconds", "-o", dir.string()});
+        return std::pair{r.code, r.err};
+    }();
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(err.find("unknown cost 'seconds' (valid: cpu, wall, rays)"), std::string::npos) << err;
+    fs::remove_all(dir);
 }

@@ -1,6 +1,5 @@
-// study/answer.h and study/report_html.h: the bootstrap interval of a ratio of medians (its coverage of a
-// known ratio), half floats and base64 against their definitions, and the page's data escaping.
-#include "study/answer.h"
+// study/report_html.h: half floats and base64 against their definitions, and the page's data escaping
+// (the answer's intervals: test_study_intervals.cpp).
 #include "study/report_html.h"
 
 #include <gtest/gtest.h>
@@ -11,50 +10,6 @@
 
 namespace symphong {
 namespace {
-
-TEST(Bootstrap, ConstantSamplesGiveTheirRatioWithNoWidth) {
-    const auto r = bootstrapRatio({2, 2, 2, 2}, {0.5, 0.5, 0.5}, 1);
-    ASSERT_TRUE(r);
-    EXPECT_DOUBLE_EQ(r->point, 4.0);
-    EXPECT_DOUBLE_EQ(r->lo, 4.0);
-    EXPECT_DOUBLE_EQ(r->hi, 4.0);
-    EXPECT_FALSE(bootstrapRatio({}, {1}, 1));
-    EXPECT_FALSE(bootstrapRatio({1}, {0, 0, 0}, 1));
-    EXPECT_EQ(intervalText({1.234, 0.9, 1.5}), "1.2x [0.9, 1.5]");
-    EXPECT_EQ(intervalText({12.3, 12.3, 12.3}), "12x");
-}
-
-TEST(Bootstrap, SameSeedSameInterval) {
-    const std::vector<double> a = {1.0, 1.3, 0.8, 1.1, 0.95}, b = {0.7, 0.9, 0.75, 1.0, 0.8};
-    const auto x = bootstrapRatio(a, b, 42), y = bootstrapRatio(a, b, 42);
-    EXPECT_EQ(x->lo, y->lo);
-    EXPECT_EQ(x->hi, y->hi);
-    EXPECT_LT(x->lo, x->point);
-    EXPECT_GT(x->hi, x->point);
-}
-
-// Coverage: samples of two log-normal efficiencies whose medians have a known ratio (e^0.3); the 95%
-// interval from 15 repeats each should contain it about 95% of the time (measured here: 0.970 of 300
-// trials; the percentile bootstrap of a median is not exact at 15 values). Asked: within 4 binomial
-// standard errors of 0.95 (4 x 0.0126), and not every time (an interval far too wide would be).
-TEST(Bootstrap, IntervalCoversTheTrueRatioOfMedians) {
-    std::mt19937_64 rng(2026);
-    std::normal_distribution<double> n(0.0, 0.4);
-    const double truth = std::exp(0.3);
-    const int trials = 300;
-    int covered = 0;
-    for (int t = 0; t < trials; ++t) {
-        std::vector<double> a(15), b(15);
-        for (double& x : a) x = std::exp(0.3 + n(rng));
-        for (double& x : b) x = std::exp(n(rng));
-        const auto r = bootstrapRatio(a, b, 1000 + t, 1000);
-        covered += r->lo <= truth && truth <= r->hi;
-    }
-    const double rate = static_cast<double>(covered) / trials;
-    std::printf("coverage of the 95%% interval: %.3f over %d trials\n", rate, trials);
-    EXPECT_GT(rate, 0.95 - 4 * 0.0126);
-    EXPECT_LT(rate, 1.0);
-}
 
 TEST(Half, EveryHalfRoundTripsAndMatchesItsDefinition) {
     for (unsigned h = 0; h < 65536; ++h) {

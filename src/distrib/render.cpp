@@ -216,7 +216,8 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
     const int total = tileCount(settings.width, settings.height);
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
     const double secondsBefore = state.seconds;
-    const std::uint64_t before[3] = {state.rays, state.badSamples, state.samples};
+    const std::uint64_t before[4] = {state.rays, state.badSamples, state.samples, state.paths};
+    const double cpuBefore = state.cpuSeconds;
     RenderSettings local = settings;
     // Only rank 0 acts on a cancellation (it stops handing out tiles); a rank that skipped its tiles on its
     // own would leave holes that rank 0 does not know about.
@@ -242,10 +243,16 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
     }
     // The whole job's counts on rank 0 (each rank's own additions summed); its time from the start of
     // the pass to the last pixel gathered.
-    std::uint64_t mine[3] = {state.rays - before[0], state.badSamples - before[1], state.samples - before[2]}, sums[3] = {0, 0, 0};
-    MPI_Reduce(mine, sums, 3, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    std::uint64_t mine[4] = {state.rays - before[0], state.badSamples - before[1], state.samples - before[2], state.paths - before[3]},
+                  sums[4] = {0, 0, 0, 0};
+    MPI_Reduce(mine, sums, 4, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    const double myCpu = state.cpuSeconds - cpuBefore;
+    double cpuSum = 0;
+    MPI_Reduce(&myCpu, &cpuSum, 1, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
     if (!job.root()) return;
     state.rays = before[0] + sums[0], state.badSamples = before[1] + sums[1], state.samples = before[2] + sums[2];
+    state.paths = before[3] + sums[3];
+    state.cpuSeconds = cpuBefore + cpuSum;
     state.seconds = secondsBefore + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (distributed) {
         int own = total;

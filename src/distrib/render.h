@@ -21,7 +21,8 @@ struct DistributedStats {
 /// of one rank). Rank 0 holds the whole state: it hands each granted tile's sums out with the tile, and
 /// the rank that renders it sends them back, so a pixel's samples are added in order wherever they are
 /// taken and the state is bit for bit the single-process one. On the other ranks `state` is scratch (of
-/// the image's size). Rank 0's state gains the whole job's rays, samples and the pass's wall time.
+/// the image's size). Rank 0's state gains the whole job's rays, samples, paths and CPU time (summed over the ranks) and
+/// the pass's wall time.
 void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                               const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
                               std::atomic<std::uint64_t>* progress = nullptr, DistributedStats* distributed = nullptr);

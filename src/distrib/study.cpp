@@ -30,6 +30,16 @@ public:
         MPI_Bcast(&v, 1, MPI_INT, 0, MPI_COMM_WORLD);
         return v != 0;
     }
+    int writersInt(int value) const override {
+        MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);
+        return value;
+    }
+    std::vector<int> writersInts(std::vector<int> values) const override {
+        int n = writersInt(static_cast<int>(values.size()));
+        values.resize(static_cast<std::size_t>(n));
+        if (n > 0) MPI_Bcast(values.data(), n, MPI_INT, 0, MPI_COMM_WORLD);
+        return values;
+    }
     bool writer() const override { return job_.root(); }
     int processes() const override { return job_.size(); }
     StopReason renderPasses(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,

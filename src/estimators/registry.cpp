@@ -13,27 +13,28 @@ namespace symphong {
 
 namespace {
 
-// Traits, spelled out: {has a density, set estimator, own sampler, role, yardstick}.
+// Traits, spelled out: {has a density, set estimator, own sampler, role, yardstick, takes an orbit}.
 constexpr EstimatorTraits kPlain{true, false, "", EstimatorRole::Other, false};
 constexpr EstimatorTraits kBaseline{true, false, "", EstimatorRole::Baseline, false};
 constexpr EstimatorTraits kYardstick{true, false, "", EstimatorRole::Baseline, true};
 constexpr EstimatorTraits kStratifiedTraits{true, false, "stratified", EstimatorRole::Baseline, false};
 constexpr EstimatorTraits kCandidate{true, true, "", EstimatorRole::Candidate, false};
 constexpr EstimatorTraits kCandidateWithoutDensity{false, true, "", EstimatorRole::Candidate, false};
+constexpr EstimatorTraits kCandidateWithOrbit{true, true, "", EstimatorRole::Candidate, false, true};
 
 // The table: one entry per estimator.
 const EstimatorEntry kEstimators[] = {
     {"uniform", "uniform hemisphere directions, p = 1/(2 pi)", kPlain, makeUniformEstimator},
-    {"cosine", "cosine-weighted directions, p = cos/pi", kYardstick, makeCosineEstimator},
+    {"cosine", "cosine-weighted directions, p = cos/pi", kBaseline, makeCosineEstimator},
     {"stratified", "cosine directions under the stratified sampler (whatever --sampler says)", kStratifiedTraits, makeStratifiedEstimator},
-    {"phong", "Phong lobe importance sampling: diffuse or specular lobe chosen by albedo", kBaseline, makePhongLobeEstimator},
+    {"phong", "Phong lobe importance sampling: diffuse or specular lobe chosen by albedo", kYardstick, makePhongLobeEstimator},
     {"paper", "the paper's symmetric estimator, Eq. (4) + (7), exactly as printed (biased)", kCandidateWithoutDensity, makePaperEstimator},
     {"symmetric", "corrected symmetric estimator: 16 pieces + 8 rotated triangles, exact maps, MIS", kCandidate, makeSymmetricEstimator},
     {"symmetric-shifted", "as symmetric, each symmetric copy from its own shifted (u,v)", kCandidate, makeSymmetricShiftedEstimator},
     {"symmetric-mix",
      "symmetric sampling with phong's mixture: pieces by projected solid angle, lobe vs\n"
      "             diffuse by albedo (stratified), 8 wedges of the exact lobe; orbits of --symmetric-orbit copies",
-     kCandidate, makeSymmetricMixEstimator},
+     kCandidateWithOrbit, makeSymmetricMixEstimator},
 };
 
 }  // namespace

@@ -28,8 +28,10 @@ struct EstimatorTraits {
     /// The sampler it is defined with, overriding the one asked for; empty: the one asked for.
     std::string_view ownSampler;
     EstimatorRole role = EstimatorRole::Other;
-    /// The yardstick of the study's tables ("efficiency vs cosine") and of its equal-time table.
+    /// The yardstick of the study's tables ("efficiency vs phong"), its fair pairs and its equal-time table.
     bool yardstick = false;
+    /// It reads EstimatorOptions::symmetricOrbit: R copies of one point used together (`symmetric-mix`).
+    bool takesOrbit = false;
 };
 
 struct EstimatorEntry {

@@ -78,8 +78,10 @@ py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
     }
     const double secs = std::max(r.stats.seconds, 1e-9);
     stats["seconds"] = r.stats.seconds;
+    stats["cpu_seconds"] = r.stats.cpuSeconds;
     stats["rays"] = r.stats.rays;
     stats["samples"] = r.stats.samples;
+    stats["paths"] = r.stats.paths;
     stats["bad_samples"] = r.stats.badSamples;
     stats["mrays_per_second"] = r.stats.rays / secs / 1e6;
     stats["samples_per_second"] = r.stats.samples / secs;
@@ -100,8 +102,8 @@ std::string renderDoc() {
            "Returns (image, stats), or (image, stats, variance) with variance=True:\n"
            "  image     float32 array (height, width, 3): linear radiance, row 0 at the top; bit for bit the EXR\n"
            "            that `symphong render` writes with the same settings.\n"
-           "  stats     dict: seconds, rays, samples, bad_samples, mrays_per_second, samples_per_second,\n"
-           "            estimator, sampler (the one used: an estimator may require its own), spp, width, height, seed,\n"
+           "  stats     dict: seconds, cpu_seconds (of every thread), rays, samples, paths (started: a split's or\n"
+           "            a set's further directions count), bad_samples, mrays_per_second, samples_per_second, estimator, sampler (the one used: an estimator may require its own), spp, width, height, seed,\n"
            "            spp_reached and stop_reason ('spp', 'time limit', 'target error', 'interrupted'); in passes (time,\n"
            "            target_error, pass_spp, checkpoint or resume given) also relative_error (of the image mean) and checkpoint.\n"
            "  variance  float32 array (height, width, 3): per-pixel variance of the mean (sample variance / spp).\n\n"

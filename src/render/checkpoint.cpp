@@ -88,7 +88,9 @@ nlohmann::json headerOf(const RenderIdentity& id, const RenderState& s) {
             {"rays", s.rays},
             {"bad_samples", s.badSamples},
             {"samples", s.samples},
-            {"seconds", s.seconds}};
+            {"paths", s.paths},
+            {"seconds", s.seconds},
+            {"cpu_seconds", s.cpuSeconds}};
 }
 
 }  // namespace
@@ -163,6 +165,9 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
         state.badSamples = header.at("bad_samples").get<std::uint64_t>();
         state.samples = header.at("samples").get<std::uint64_t>();
         state.seconds = header.at("seconds").get<double>();
+        // Written since the study measured cost by CPU time; an older checkpoint has neither.
+        state.paths = header.value("paths", state.samples);
+        state.cpuSeconds = header.value("cpu_seconds", 0.0);
     } catch (const nlohmann::json::exception& e) {
         throw damaged(fmt::format("its header: {}", e.what()));
     }

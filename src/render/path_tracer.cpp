@@ -196,6 +196,7 @@ Color PathTracer::traceBundle(const Vec3& origin, RayBundle& bundle, int depth, 
     bundle.hits.resize(n);
     accel_.intersectBundle(origin, bundle.dirs.data(), n, epsilon_, bundle.hits.data(), bundle.found.get());
     pc.stats.rays += n;
+    pc.stats.extraPaths += n - 1;  // n >= 1: each ray of the bundle starts a path, the first continues the camera's
     Color L(0.0);
     for (std::size_t i = 0; i < n; ++i) {
         const RayBundle::Ray& r = bundle.rays[i];

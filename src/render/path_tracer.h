@@ -41,6 +41,7 @@ struct TraceSettings {
 
 struct TraceStats {
     std::uint64_t rays = 0;        ///< closest-hit and shadow queries
+    std::uint64_t extraPaths = 0;  ///< rays beyond the first that a branching vertex traces (each starts a path of its own)
     std::uint64_t badSamples = 0;  ///< non-finite path contributions, discarded (counted, never written)
 };
 

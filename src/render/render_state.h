@@ -34,7 +34,9 @@ struct RenderState {
     std::vector<double> sumLuminanceSq;      ///< per pixel: sum of Y(L)^2 (for the luminance's variance)
     std::vector<std::uint32_t> tileSamples;  ///< per tile (render/renderer.h numbering): samples taken
     std::uint64_t rays = 0, badSamples = 0, samples = 0;
-    double seconds = 0;  ///< render time so far, over every run that added to this state
+    std::uint64_t paths = 0;  ///< paths started (RenderStats::paths)
+    double seconds = 0;       ///< render time so far, over every run that added to this state
+    double cpuSeconds = 0;    ///< CPU time so far (RenderStats::cpuSeconds)
 
     RenderState() = default;
     RenderState(int width, int height, std::uint32_t sppBound);

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include "io/memory.h"
+#include "util/cpu_time.h"
 
 #include <fmt/format.h>
 #include <oneapi/tbb/global_control.h>
@@ -71,6 +72,7 @@ void forEachTile(const RenderSettings& settings, Fn&& renderTile) {
 void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
                    std::uint32_t upTo, std::atomic<std::uint64_t>* progress) {
     const auto start = std::chrono::steady_clock::now();
+    const double cpuStart = processCpuSeconds();
     const PathTracer tracer(scene, accel, estimator, settings.trace);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
@@ -112,12 +114,15 @@ void renderSamples(const Scene& scene, const Accel& accel, const Estimator& esti
             std::lock_guard<std::mutex> lock(statsMutex);
             state.rays += stats.rays;
             state.badSamples += stats.badSamples;
-            state.samples += static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0) * (upTo - from);
+            const std::uint64_t cameraSamples = static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0) * (upTo - from);
+            state.samples += cameraSamples;
+            state.paths += cameraSamples + stats.extraPaths;
         }
         if (settings.onTileDone) settings.onTileDone();
     };
     forEachTile(settings, renderTile);
     state.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.cpuSeconds += processCpuSeconds() - cpuStart;
 }
 
 RenderResult resultOf(const RenderState& state, const std::string& sampler) {
@@ -127,6 +132,8 @@ RenderResult resultOf(const RenderState& state, const std::string& sampler) {
     result.stats.seconds = state.seconds;
     result.stats.rays = state.rays;
     result.stats.samples = state.samples;
+    result.stats.paths = state.paths;
+    result.stats.cpuSeconds = state.cpuSeconds;
     result.stats.badSamples = state.badSamples;
     result.sampler = sampler;
     return result;

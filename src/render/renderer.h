@@ -63,9 +63,11 @@ struct RenderSettings {
 };
 
 struct RenderStats {
-    double seconds = 0;
+    double seconds = 0;     ///< wall time
+    double cpuSeconds = 0;  ///< CPU time of the process's threads while it rendered (under MPI: summed over the ranks)
     std::uint64_t rays = 0;
-    std::uint64_t samples = 0;     ///< camera samples (paths started)
+    std::uint64_t samples = 0;     ///< camera samples
+    std::uint64_t paths = 0;       ///< paths started: one per camera sample, plus each further ray a first-hit split or set traces
     std::uint64_t badSamples = 0;  ///< non-finite contributions discarded
 };
 

@@ -7,27 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 namespace symphong {
 
 namespace {
-
-
-/// A measure of one render, by name.
-using Measure = double StudyRow::*;
-
-std::vector<double> repeatsOf(const std::vector<StudyRow>& rows, const std::string& variant, std::uint32_t spp, Measure m) {
-    std::vector<double> out;
-    for (const StudyRow& r : rows)
-        if (r.variant == variant && r.spp == spp) out.push_back(r.*m);
-    return out;
-}
-
-EstimatorRole roleOf(const std::string& estimator) {
-    const EstimatorEntry* e = findEstimator(estimator);
-    return e && e->traits.hasDensity ? e->traits.role : EstimatorRole::Other;
-}
 
 std::uint32_t topSpp(const std::vector<StudySummary>& summary) {
     std::uint32_t top = 0;
@@ -35,62 +18,84 @@ std::uint32_t topSpp(const std::vector<StudySummary>& summary) {
     return top;
 }
 
-/// The unbiased summary at `spp` with the largest median of `eff` among those `keep` accepts.
-template <class Keep>
-const StudySummary* mostEfficient(const std::vector<StudySummary>& summary, std::uint32_t spp, double StudySummary::*eff, Keep keep) {
-    const StudySummary* best = nullptr;
+/// The summaries at `spp` of unbiased variants, most efficient first.
+std::vector<const StudySummary*> ranked(const std::vector<StudySummary>& summary, std::uint32_t spp, bool rel) {
+    std::vector<const StudySummary*> out;
     for (const auto& s : summary)
-        if (s.spp == spp && !biasedAnywhere(summary, s.variant) && s.*eff > 0 && keep(s) && (!best || s.*eff > best->*eff)) best = &s;
-    return best;
+        if (s.spp == spp && !biasedAnywhere(summary, s.variant) && (rel ? s.efficiencyRel : s.efficiency) > 0) out.push_back(&s);
+    std::stable_sort(out.begin(), out.end(), [rel](const StudySummary* a, const StudySummary* b) {
+        return (rel ? a->efficiencyRel : a->efficiency) > (rel ? b->efficiencyRel : b->efficiency);
+    });
+    return out;
 }
 
-/// "`a` ... F [lo, hi] ..." for the ratio of a's repeats of measure m to b's.
-std::string ratioText(const std::vector<StudyRow>& rows, const StudySummary& a, const StudySummary& b, Measure m, std::uint64_t seed,
-                      int draws) {
-    const auto r = bootstrapRatio(repeatsOf(rows, a.variant, a.spp, m), repeatsOf(rows, b.variant, b.spp, m), seed, draws);
+std::string ratioText(const std::vector<StudyRow>& rows, const std::string& a, const std::string& b, std::uint32_t spp, ErrorMeasure m) {
+    const auto r = compareVariants(rows, a, b, spp, m);
     return r ? intervalText(*r) : "-";
 }
 
-std::string mostEfficientLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, bool rel, int draws) {
+std::string mostEfficientLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, bool rel) {
     const std::uint32_t top = topSpp(summary);
-    double StudySummary::*eff = rel ? &StudySummary::efficiencyRel : &StudySummary::efficiency;
-    const Measure m = rel ? &StudyRow::efficiencyRel : &StudyRow::efficiency;
-    const StudySummary* best = mostEfficient(summary, top, eff, [](const StudySummary&) { return true; });
-    if (!best) return {};
+    const ErrorMeasure m = rel ? ErrorMeasure::RelMse : ErrorMeasure::Mse;
+    const auto order = ranked(summary, top, rel);
+    if (order.empty()) return {};
+    const StudySummary* best = order[0];
     std::string line = fmt::format("**Most efficient by {}** at {} spp: `{}`", rel ? "relMSE" : "MSE", top, best->variant);
-    const StudySummary* second = mostEfficient(summary, top, eff, [&](const StudySummary& s) { return &s != best; });
-    if (second) line += fmt::format(", {} the efficiency of the next, `{}`", ratioText(rows, *best, *second, m, 11, draws), second->variant);
-    const StudySummary* yard = sameSampler(summary, std::string(yardstickEstimator()), *best);
-    if (yard && yard != best && yard != second)
-        line += fmt::format(", {} that of `{}`", ratioText(rows, *best, *yard, m, 12, draws), yard->variant);
+    if (order.size() > 1)
+        line += fmt::format(", {} the efficiency of the next, `{}`", ratioText(rows, best->variant, order[1]->variant, top, m),
+                            order[1]->variant);
+    const std::string yard(yardstickEstimator());
+    const auto isYard = [&](const StudySummary* s) { return s->estimator == yard && s->mode == "branch" && s->variant.find('+') == std::string::npos; };
+    const auto y = std::find_if(order.begin(), order.end(), isYard);
+    if (y != order.end() && *y != best && (order.size() < 2 || *y != order[1]))
+        line += fmt::format(", {} that of `{}`", ratioText(rows, best->variant, (*y)->variant, top, m), (*y)->variant);
     return line + ".";
 }
 
-std::string paysLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, int draws) {
-    const std::uint32_t top = topSpp(summary);
-    const StudySummary* cand =
-        mostEfficient(summary, top, &StudySummary::efficiency, [](const StudySummary& s) { return roleOf(s.estimator) == EstimatorRole::Candidate; });
-    const StudySummary* base =
-        mostEfficient(summary, top, &StudySummary::efficiency, [](const StudySummary& s) { return roleOf(s.estimator) == EstimatorRole::Baseline; });
-    if (!cand || !base) return "**Does symmetric sampling pay?** This study has no unbiased symmetric variant or no baseline to answer it.";
-    const auto r = bootstrapRatio(repeatsOf(rows, cand->variant, top, &StudyRow::efficiency),
-                                  repeatsOf(rows, base->variant, top, &StudyRow::efficiency), 13, draws);
-    if (!r) return {};
-    const char* verdict = r->lo > 1 ? "Yes" : r->hi < 1 ? "No" : r->lo == r->hi ? "Undecided (one repeat, no interval)"
-                                                                                 : "Not resolved at 95%";
-    return fmt::format(
-        "**Does symmetric sampling pay?** {}: the most efficient symmetric variant, `{}`, reaches {} the efficiency of the best "
-        "baseline, `{}`, by MSE ({} by relMSE).",
-        verdict, cand->variant, intervalText(*r), base->variant, ratioText(rows, *cand, *base, &StudyRow::efficiencyRel, 14, draws));
+struct PairResult {
+    Comparison cmp;
+    std::optional<RatioInterval> ratio;
+    Verdict verdict = Verdict::Unresolved;
+};
+
+std::vector<PairResult> fairPairs(const StudyConfig& c, const std::vector<StudyRow>& rows, std::uint32_t top) {
+    std::vector<PairResult> out;
+    for (const Comparison& cmp : studyComparisons(studyVariants(c)))
+        if (cmp.fairPair) {
+            PairResult p{cmp, compareVariants(rows, cmp.variant, cmp.against, top), Verdict::Unresolved};
+            if (p.ratio) p.verdict = verdictOf(*p.ratio);
+            out.push_back(p);
+        }
+    return out;
 }
 
-std::string lowestRmseLine(const std::vector<StudySummary>& summary, const std::vector<std::uint32_t>& spps) {
-    std::vector<std::string> winners;
-    for (std::uint32_t spp : spps)
-        if (const StudySummary* w = lowestRmse(summary, spp)) winners.push_back(fmt::format("{} spp `{}`", spp, w->variant));
-    if (winners.empty()) return {};
-    return fmt::format("**Lowest RMSE at equal samples**: {} (not equal work: a set estimator traces several paths per sample).",
-                       fmt::join(winners, ", "));
+std::string paysLine(const std::vector<PairResult>& pairs) {
+    if (pairs.empty())
+        return "**Does symmetric sampling pay?** This study has no fair pair to answer it (a symmetric candidate and `phong` split "
+               "the same number of ways: --orbits with --splits, or the spread mode beside `phong`).";
+    int ahead = 0, behind = 0, equal = 0, open = 0;
+    for (const PairResult& p : pairs) switch (p.verdict) {
+            case Verdict::Ahead: ++ahead; break;
+            case Verdict::Behind: ++behind; break;
+            case Verdict::Equal: ++equal; break;
+            case Verdict::Unresolved: ++open; break;
+        }
+    const char* word = ahead > 0 && behind == 0 ? "Yes"
+                       : behind > 0 && ahead == 0 ? "No"
+                       : ahead > 0 && behind > 0 ? "Sometimes"
+                       : equal > 0               ? "No gain"
+                                                 : "Not resolved";
+    return fmt::format(
+        "**Does symmetric sampling pay?** {}: against `phong` with the same paths per camera sample, the symmetric variant is ahead in "
+        "{}, behind in {}, equal (within {:.0f}%) in {}{} of {} fair pairs.",
+        word, ahead, behind, 100 * kEqualBand, equal, open > 0 ? fmt::format(", not resolved in {}", open) : std::string(), pairs.size());
+}
+
+std::string pairLine(const PairResult& p) {
+    const std::string paths = p.cmp.paths == 1 ? "one path per camera sample" : fmt::format("{} paths per camera sample", p.cmp.paths);
+    if (!p.ratio) return fmt::format("`{}` against `{}` ({}): no common repeats.", p.cmp.variant, p.cmp.against, paths);
+    return fmt::format("`{}` against `{}` ({}): **{}**, {} ({} pairs).", p.cmp.variant, p.cmp.against, paths, verdictName(p.verdict),
+                       intervalText(*p.ratio), p.ratio->n);
 }
 
 std::string biasLine(const std::vector<StudySummary>& summary) {
@@ -103,6 +108,32 @@ std::string biasLine(const std::vector<StudySummary>& summary) {
     return fmt::format("**Bias** (|z| > 4 at {} spp, left out above): {}.", top, fmt::join(biased, ", "));
 }
 
+std::string repeatsLine(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
+                        const RepeatsNote& note) {
+    const std::uint32_t top = topSpp(summary);
+    int lo = 0, hi = 0;
+    std::string most;
+    for (const auto& s : summary)
+        if (s.spp == top) {
+            if (lo == 0 || s.repeats < lo) lo = s.repeats;
+            if (s.repeats > hi) hi = s.repeats, most = s.variant;
+        }
+    std::string line = fmt::format(
+        "Efficiency = 1/(MSE x {}) at {} spp; factors are ratios of means over paired repeats (repeat r of every variant has seed r), "
+        "[a, b] their 95% interval (delta method). Repeats: {}",
+        costWords(c.cost), top, lo == hi ? fmt::format("{} per variant", lo) : fmt::format("{} to {} (`{}` {})", lo, hi, most, hi));
+    if (note.stoppedBy == "target")
+        line += fmt::format("; stopped when every comparison was decided within +-{:.0f}%", 100 * note.targetInterval);
+    else if (note.stoppedBy == "time" || note.stoppedBy == "max-repeats") {
+        std::set<std::string> open = variantsToRepeat(rows, top, studyComparisons(studyVariants(c)), note.targetInterval);
+        line += fmt::format("; stopped by {} before every comparison was decided within +-{:.0f}%{}",
+                            note.stoppedBy == "time" ? "the --time budget" : "--max-repeats", 100 * note.targetInterval,
+                            open.empty() ? std::string() : fmt::format(" (still open: `{}`)", fmt::join(open, "`, `")));
+    } else if (note.stoppedBy == "cancelled")
+        line += "; interrupted";
+    return line + ".";
+}
+
 }  // namespace
 
 double median(std::vector<double> v) {
@@ -112,92 +143,125 @@ double median(std::vector<double> v) {
     return 0.5 * (*std::max_element(v.begin(), v.begin() + static_cast<long>(half)) + v[half]);
 }
 
-std::optional<RatioInterval> bootstrapRatio(const std::vector<double>& a, const std::vector<double>& b, std::uint64_t seed, int draws) {
-    if (a.empty() || b.empty() || !(median(b) > 0)) return std::nullopt;
-    RatioInterval r;
-    r.point = median(a) / median(b);
-    if ((a.size() < 2 && b.size() < 2) || draws <= 0) {
-        r.lo = r.hi = r.point;
-        return r;
+std::string costWords(StudyCost cost) {
+    switch (cost) {
+        case StudyCost::Cpu: return "CPU time";
+        case StudyCost::Wall: return "wall time";
+        case StudyCost::Rays: return "rays traced";
     }
-    std::mt19937_64 rng(seed);
-    std::vector<double> ratios, ra(a.size()), rb(b.size());
-    ratios.reserve(static_cast<std::size_t>(draws));
-    for (int d = 0; d < draws; ++d) {
-        for (double& x : ra) x = a[rng() % a.size()];
-        for (double& x : rb) x = b[rng() % b.size()];
-        const double mb = median(rb);
-        ratios.push_back(mb > 0 ? median(ra) / mb : std::numeric_limits<double>::infinity());
-    }
-    std::sort(ratios.begin(), ratios.end());
-    r.lo = ratios[static_cast<std::size_t>(0.025 * draws)];
-    r.hi = ratios[static_cast<std::size_t>(0.975 * draws) - 1];
-    return r;
-}
-
-std::string intervalText(const RatioInterval& r) {
-    if (r.lo == r.hi) return factor(r.point);
-    return fmt::format("{} [{:.2g}, {:.2g}]", factor(r.point), r.lo, r.hi);
+    return "cost";
 }
 
 std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
-                                     int draws) {
+                                     const RepeatsNote& repeats) {
     if (summary.empty()) return {"No results."};
+    const std::vector<PairResult> pairs = fairPairs(c, rows, topSpp(summary));
     std::vector<std::string> lines;
-    for (const std::string& l : {mostEfficientLine(rows, summary, false, draws), mostEfficientLine(rows, summary, true, draws),
-                                 paysLine(rows, summary, draws),
-                                 lowestRmseLine(summary, c.spps), biasLine(summary)})
+    for (const std::string& l : {mostEfficientLine(rows, summary, false), mostEfficientLine(rows, summary, true), paysLine(pairs)})
         if (!l.empty()) lines.push_back(l);
-    if (draws <= 0)
-        lines.push_back("Factors are ratios of medians over the repeats, without intervals (an interrupted study's report).");
-    else if (c.repeats > 1)
-        lines.push_back(fmt::format("Factors are ratios of medians over {} repeats; [a, b] is the 95% bootstrap interval.", c.repeats));
-    else
-        lines.push_back("One repeat per variant: factors without intervals (run with --repeats 5 or more for them).");
+    // At most ten lines: the pairs take what the others leave (the relMSE line goes first when they need it).
+    const std::size_t tail = 2;
+    if (lines.size() + pairs.size() + tail > 10 && lines.size() == 3) lines.erase(lines.begin() + 1);
+    const std::size_t room = 10 - std::min<std::size_t>(10, lines.size() + tail);
+    for (std::size_t i = 0; i < pairs.size() && i < room; ++i) lines.push_back(pairLine(pairs[i]));
+    if (pairs.size() > room)
+        lines.back() += fmt::format(" ({} more fair pairs in results.json's \"comparisons\".)", pairs.size() - room);
+    lines.push_back(biasLine(summary));
+    lines.push_back(repeatsLine(c, rows, summary, repeats));
     return lines;
 }
 
-std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
-                                     int draws) {
+nlohmann::json answerComparisonsJson(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary) {
+    nlohmann::json out = nlohmann::json::array();
+    const std::uint32_t top = topSpp(summary);
+    for (const Comparison& cmp : studyComparisons(studyVariants(c))) {
+        nlohmann::json j = {{"variant", cmp.variant},
+                            {"against", cmp.against},
+                            {"fair_pair", cmp.fairPair},
+                            {"paths_per_sample", cmp.paths},
+                            {"spp", top},
+                            {"repeats_variant", repeatsOf(rows, cmp.variant, top)},
+                            {"repeats_against", repeatsOf(rows, cmp.against, top)},
+                            {"biased", biasedAt(rows, cmp.variant, top) || biasedAt(rows, cmp.against, top)}};
+        for (const auto& [key, m] : {std::pair{"mse", ErrorMeasure::Mse}, std::pair{"relmse", ErrorMeasure::RelMse}}) {
+            const auto r = compareVariants(rows, cmp.variant, cmp.against, top, m);
+            j[key] = r ? nlohmann::json{{"ratio", r->point}, {"lo", r->lo}, {"hi", r->hi}, {"pairs", r->n}, {"verdict", verdictName(verdictOf(*r))}}
+                       : nlohmann::json(nullptr);
+        }
+        out.push_back(j);
+    }
+    return out;
+}
+
+std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary) {
     std::vector<ReportTable> tables;
     std::vector<std::string> columns = {"variant"};
     for (std::uint32_t spp : c.spps) columns.push_back(fmt::format("{} spp", spp));
+    const std::vector<StudyVariant> variants = studyVariants(c);
+    const std::vector<Comparison> comparisons = studyComparisons(variants);
     const std::string yard(yardstickEstimator());
     for (const bool rel : {false, true}) {
         ReportTable t{fmt::format("Efficiency by {}, relative to `{}` (95% interval)", rel ? "relMSE" : "MSE", yard),
-                      fmt::format("1/({} x time) of each render, the median over the repeats, over that of `{}` under the same sampler.",
-                                  rel ? "relMSE" : "MSE", yard),
+                      fmt::format("1/({} x {}), the ratio of the means over the repeats both have, against `{}` under the same sampler.",
+                                  rel ? "relMSE" : "MSE", costWords(c.cost), yard),
                       columns,
                       {}};
-        const Measure m = rel ? &StudyRow::efficiencyRel : &StudyRow::efficiency;
-        for (const StudyVariant& v : studyVariants(c)) {
+        for (const StudyVariant& v : variants) {
             std::vector<ReportCell> row = {{fmt::format("`{}`{}", v.label, biasedAnywhere(summary, v.label) ? " (biased)" : ""), {}}};
+            const auto cmp = std::find_if(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.variant == v.label; });
+            const bool isYard = std::any_of(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.against == v.label; }) &&
+                                v.estimator == yard && v.split == 1;
             for (std::uint32_t spp : c.spps) {
-                const StudySummary* s = nullptr;
-                for (const auto& x : summary)
-                    if (x.variant == v.label && x.spp == spp) s = &x;
-                const StudySummary* y = s ? sameSampler(summary, yard, *s) : nullptr;
-                const auto r = s && y ? bootstrapRatio(repeatsOf(rows, s->variant, spp, m), repeatsOf(rows, y->variant, spp, m), 21 + spp, draws)
-                                      : std::nullopt;
-                row.push_back(r ? ReportCell{s == y ? std::string("1x") : intervalText(*r), r->point} : ReportCell{"-", {}});
+                if (isYard && repeatsOf(rows, v.label, spp) > 0) {
+                    row.push_back({"1x", 1.0});
+                    continue;
+                }
+                const auto r = cmp != comparisons.end()
+                                   ? compareVariants(rows, v.label, cmp->against, spp, rel ? ErrorMeasure::RelMse : ErrorMeasure::Mse)
+                                   : std::nullopt;
+                row.push_back(r ? ReportCell{intervalText(*r), r->point} : ReportCell{"-", {}});
             }
             t.rows.push_back(std::move(row));
         }
         tables.push_back(std::move(t));
     }
-    ReportTable rmse{"RMSE of luminance (95% interval)", "The median over the repeats, the reference's own noise removed.", columns, {}};
-    for (const StudyVariant& v : studyVariants(c)) {
+    ReportTable rmse{"RMSE of luminance (95% interval)", "The square root of the mean MSE over the repeats, the reference's own noise removed.",
+                     columns, {}};
+    for (const StudyVariant& v : variants) {
         std::vector<ReportCell> row = {{fmt::format("`{}`", v.label), {}}};
         for (std::uint32_t spp : c.spps) {
-            const auto r = bootstrapRatio(repeatsOf(rows, v.label, spp, &StudyRow::rmse), {1.0}, 31 + spp, draws);
-            row.push_back(r ? ReportCell{r->lo == r->hi ? fmt::format("{:.3g}", r->point)
-                                                        : fmt::format("{:.3g} [{:.3g}, {:.3g}]", r->point, r->lo, r->hi),
-                                         r->point}
-                            : ReportCell{"-", {}});
+            std::vector<double> mse;
+            for (const StudyRow& r : rows)
+                if (r.variant == v.label && r.spp == spp) mse.push_back(r.mse);
+            if (mse.empty()) {
+                row.push_back({"-", {}});
+                continue;
+            }
+            const RatioInterval m = meanInterval(mse);
+            const double p = std::sqrt(m.point);
+            row.push_back({m.lo == m.hi ? fmt::format("{:.3g}", p) : fmt::format("{:.3g} [{:.3g}, {:.3g}]", p, std::sqrt(m.lo), std::sqrt(m.hi)), p});
         }
         rmse.rows.push_back(std::move(row));
     }
     tables.push_back(std::move(rmse));
+    const std::uint32_t top = topSpp(summary);
+    ReportTable cost{fmt::format("Repeats and cost at {} spp", top),
+                     fmt::format("Means over the repeats of each render's wall time, the CPU time of its threads, its rays and the paths "
+                                 "each camera sample started; efficiency divides by {}.",
+                                 costWords(c.cost)),
+                     {"variant", "repeats", "wall (s)", "CPU (s)", "Mrays", "paths per sample", "efficiency"},
+                     {}};
+    for (const StudySummary& s : summary)
+        if (s.spp == top)
+            cost.rows.push_back({{fmt::format("`{}`", s.variant), {}},
+                                 {fmt::format("{}", s.repeats), static_cast<double>(s.repeats)},
+                                 {fmt::format("{:.3g}", s.seconds), s.seconds},
+                                 {fmt::format("{:.3g}", s.cpuSeconds), s.cpuSeconds},
+                                 {fmt::format("{:.3g}", s.rays / 1e6), s.rays / 1e6},
+                                 {fmt::format("{:.3g}", s.paths / std::max(1.0, static_cast<double>(c.width) * c.height * s.spp)),
+                                  s.paths / std::max(1.0, static_cast<double>(c.width) * c.height * s.spp)},
+                                 {fmt::format("{:.3g}", s.efficiency), s.efficiency}});
+    tables.push_back(std::move(cost));
     return tables;
 }
 

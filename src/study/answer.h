@@ -1,10 +1,16 @@
 // study/answer.h — the study's answer and tables, computed from its rows: which variant is most efficient
-// and by how much, whether the symmetric variants pay, each factor with its 95% interval from the repeats
-// (a bootstrap of the ratio of medians), and one compact table per measure (rows: variants, columns: spp).
-// report.md (report.cpp) and report.html (report_html.cpp) show the same lines and tables.
+// and by how much, whether the symmetric variants pay (each fair pair: equal paths per camera sample,
+// study/comparisons.h), what ended the repeats, each factor with its 95% interval over the paired repeats
+// (study/intervals.h), and one compact table per measure (rows: variants, columns: spp).
+// report.md (report.cpp) and report.html (report_html.cpp) show the same lines and tables, and
+// results.json carries the comparisons (answerComparisonsJson) for scripts/study-report.py.
 #pragma once
 
+#include "study/comparisons.h"
+#include "study/intervals.h"
 #include "study/study.h"
+
+#include <nlohmann/json.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -13,24 +19,8 @@
 
 namespace symphong {
 
-/// The median of the values (the mean of the middle two for an even count), by partial ordering: the
-/// study's summary takes it over repeats and the bootstrap thousands of times.
+/// The median of the values (the mean of the middle two for an even count), by partial ordering.
 double median(std::vector<double> v);
-
-/// A ratio of two medians with its 95% percentile-bootstrap interval.
-struct RatioInterval {
-    double point = 0, lo = 0, hi = 0;
-};
-
-/// median(a) / median(b) and the 2.5 and 97.5 percentiles of the same ratio over `draws` resamplings of a
-/// and of b, each drawn with replacement from its own values (a fixed `seed`: the same interval every
-/// time). Empty input or a median of b that is not > 0: nothing. No interval (lo = hi = the point) with
-/// one value on each side or no draws.
-std::optional<RatioInterval> bootstrapRatio(const std::vector<double>& a, const std::vector<double>& b, std::uint64_t seed,
-                                            int draws = 4000);
-
-/// "1.2x [0.95, 1.5]".
-std::string intervalText(const RatioInterval& r);
 
 struct ReportCell {
     std::string text;
@@ -43,20 +33,28 @@ struct ReportTable {
     std::vector<std::vector<ReportCell>> rows;
 };
 
-/// The bootstrap's resamplings per interval in the report; an interrupted study's report has none (its
-/// intervals took seconds under a sanitizer, more than a job stopped by its launcher has).
-inline constexpr int kReportDraws = 4000;
+/// What the answer says of how the repeats ended.
+struct RepeatsNote {
+    std::string stoppedBy = "fixed";  ///< StudyOutcome::stoppedBy
+    double targetInterval = 0;
+};
 
 /// The answer: at most ten lines of Markdown (each a bullet's text, without "- ").
 std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
-                                     int draws = kReportDraws);
+                                     const RepeatsNote& repeats = {});
 
-/// The tables: efficiency by MSE and by relMSE relative to the yardstick under the same sampler, and the
-/// RMSE, each variant x spp with its interval.
-std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
-                                     int draws = kReportDraws);
+/// Every comparison of the answer at the top spp, with its ratio, interval, verdict and repeats, by MSE
+/// and by relMSE (results.json's "comparisons").
+nlohmann::json answerComparisonsJson(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary);
+
+/// The tables: efficiency by MSE and by relMSE relative to the yardstick under the same sampler, the RMSE,
+/// each variant x spp with its interval, and the repeats and costs at the top spp.
+std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary);
 
 /// A table as Markdown (its title as a level-2 heading, its note, then the table).
 std::string tableMarkdown(const ReportTable& t);
+
+/// "CPU time", "wall time", "rays": what efficiency divides by, in words.
+std::string costWords(StudyCost cost);
 
 }  // namespace symphong

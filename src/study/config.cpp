@@ -40,6 +40,47 @@ void addReferenceFields(schema::Schema<StudyOptions>& s) {
                     .checkedBy(checkSamplerName));
 }
 
+/// The variants' orbits, the repeats, the cost and the rule that adds repeats.
+void addRepeatFields(schema::Schema<StudyOptions>& s) {
+    using F = schema::Field<StudyOptions>;
+    using schema::ref;
+    using O = StudyOptions;
+        s.push_back(F("orbits", "--orbits",
+                      "symmetric-mix in branch mode: one variant per R (R symmetric copies of one point traced from each camera sample, "
+                      "'+orbitR'), each compared with phong split R ways (--splits R): 1, 2, 4 or 8, comma-separated",
+                      ref<O>([](O & o) -> auto& { return o.config.orbits; }))
+                        .range(1, 8)
+                        .noDefaultShown());
+        s.push_back(F("repeats", "--repeats,-R",
+                      "independent renders per estimator and spp (paired: repeat r of every variant has seed r); with "
+                      "--target-interval, the repeats before the first check",
+                      ref<O>([](O & o) -> auto& { return o.config.repeats; }))
+                        .range(1, 1000));
+        s.push_back(F("cost", "--cost",
+                      "what efficiency 1/(MSE x cost) divides by: 'cpu' (CPU seconds of the render's threads, summed over MPI ranks: "
+                      "other programs on the machine cannot bend it), 'wall' (wall-clock seconds) or 'rays' (rays traced) [default: cpu]",
+                      schema::TextAccess<O>{[](const O& o) { return std::string(studyCostName(o.config.cost)); },
+                                            [](O& o, const std::string& name) { o.config.cost = parseStudyCost(name); }})
+                        .type("COST"));
+        s.push_back(F("target_interval", "--target-interval",
+                      "add paired repeats at the top spp until every comparison of the answer (each variant against phong, each fair "
+                      "pair) has a 95% interval whose half-width is at most this fraction of its ratio and that says ahead, behind or "
+                      "equal (e.g. 0.1); 0: exactly --repeats",
+                      ref<O>([](O & o) -> auto& { return o.config.targetInterval; }))
+                        .range(0, 10)
+                        .keepsPixels());
+        s.push_back(F("time", "--time",
+                      "with --target-interval: start no round of repeats that would end after this many seconds of the study "
+                      "(0: no limit)",
+                      ref<O>([](O & o) -> auto& { return o.config.timeLimit; }))
+                        .range(0, 1e9)
+                        .keepsPixels());
+        s.push_back(F("max_repeats", "--max-repeats", "with --target-interval: the most repeats of any variant",
+                      ref<O>([](O & o) -> auto& { return o.config.maxRepeats; }))
+                        .range(2, 100000)
+                        .keepsPixels());
+}
+
 }  // namespace
 
 const schema::Schema<StudyOptions>& studySchema() {
@@ -77,9 +118,7 @@ const schema::Schema<StudyOptions>& studySchema() {
         s.push_back(F("joint_first_bounce", "--joint-first-bounce",
                       "every render with the pixel position and the first bounce from one 4D Sobol' pattern (render --joint-first-bounce)",
                       ref<O>([](O & o) -> auto& { return o.config.jointFirstBounce; })));
-        s.push_back(F("repeats", "--repeats,-R", "independent renders per estimator and spp",
-                      ref<O>([](O & o) -> auto& { return o.config.repeats; }))
-                        .range(1, 1000));
+        addRepeatFields(s);
         addReferenceFields(s);
         s.push_back(F("out", "--out,-o", "output directory", ref<O>([](O & o) -> auto& { return o.config.outDir; })).keepsPixels());
         s.push_back(F("width", "--width,-W", "image width", ref<O>([](O & o) -> auto& { return o.config.width; })).range(1, 4096));
@@ -95,6 +134,10 @@ const schema::Schema<StudyOptions>& studySchema() {
                       ref<O>([](O & o) -> auto& { return o.config.heatmapSpp; }))
                         .range(0, 1000000)
                         .noDefaultShown());
+        s.push_back(F("page_top_spp_only", "--page-top-spp-only",
+                      "report.html holds each variant's render at the top spp only, not at every spp (a page a fraction of the size)",
+                      ref<O>([](O & o) -> auto& { return o.config.pageTopSppOnly; }))
+                        .keepsPixels());
         s.push_back(F("python", "--python", "python3 with matplotlib for the plots (default: /usr/bin/python3, then python3)",
                       ref<O>([](O & o) -> auto& { return o.config.python; }))
                         .noDefaultShown()

@@ -1,6 +1,6 @@
 // The measurement of one render against the reference (a row: bias, MSE with the reference's own noise
-// removed, relMSE, efficiency, the render's own pixel variance) and of a group of repeats (bias with its
-// standard error, pixel variance across repeats, the variance budget's first-bounce part).
+// removed, relMSE, its cost and efficiency, the render's own pixel variance). The group columns (bias over
+// the repeats, pixel variance across them) are filled by study.cpp as repeats arrive.
 #include "study/study_parts.h"
 
 #include <algorithm>
@@ -22,8 +22,12 @@ StudyRow measureRow(const StudyConfig& c, const std::string& sceneName, const St
     row.width = c.width;
     row.height = c.height;
     row.seconds = r.stats.seconds;
+    row.cpuSeconds = r.stats.cpuSeconds;
     row.rays = r.stats.rays;
     row.samples = r.stats.samples;
+    row.paths = r.stats.paths;
+    row.orbit = variant.orbit;
+    row.cost = c.cost == StudyCost::Wall ? r.stats.seconds : c.cost == StudyCost::Rays ? static_cast<double>(r.stats.rays) : r.stats.cpuSeconds;
     const MeanWithError m = meanLuminance(r.image, &r.variance);
     row.meanLuminance = m.mean;
     row.meanStdError = m.stdError;
@@ -35,29 +39,28 @@ StudyRow measureRow(const StudyConfig& c, const std::string& sceneName, const St
     row.mse = std::max(err.mse - ref.noise, 0.05 * err.mse);
     row.rmse = std::sqrt(row.mse);
     row.relMse = err.relMse;
-    row.efficiency = 1.0 / (row.mse * std::max(row.seconds, 1e-9));
-    row.efficiencyRel = row.relMse > 0 ? 1.0 / (row.relMse * std::max(row.seconds, 1e-9)) : 0.0;
+    row.efficiency = 1.0 / (row.mse * std::max(row.cost, 1e-9));
+    row.efficiencyRel = row.relMse > 0 ? 1.0 / (row.relMse * std::max(row.cost, 1e-9)) : 0.0;
     for (const Color& v : r.variance.pixels)
         row.pixelVarianceWithin += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
     return row;
 }
 
-void fillGroupColumns(std::vector<StudyRow>& rows, std::size_t firstRow, const std::vector<Image>& images,
-                      const std::vector<MeanWithError>& means, const Reference& ref, double firstBounceVariance) {
-    const BiasEstimate bias = relativeBias(means, ref.mean);
-    std::vector<const Image*> ptrs;
-    for (const Image& im : images) ptrs.push_back(&im);
-    const double pv = pixelVarianceAcrossRepeats(ptrs);
-    for (std::size_t i = firstRow; i < rows.size(); ++i) {
-        StudyRow& row = rows[i];
-        row.groupRelativeBias = bias.relative;
-        row.groupBiasStdError = bias.stdError;
-        row.groupBiasZ = bias.z;
-        row.groupBiasThreshold = bias.threshold;
-        row.groupBiasSignificant = bias.significant;
-        row.groupPixelVariance = pv;
-        row.groupFirstBounceVariance = firstBounceVariance;
+void GroupImages::add(const Image& image) {
+    if (sum.empty()) sum.assign(image.pixels.size(), 0.0), sumSq.assign(image.pixels.size(), 0.0);
+    for (std::size_t i = 0; i < sum.size(); ++i) {
+        const double y = luminance(image.pixels[i]);
+        sum[i] += y;
+        sumSq[i] += y * y;
     }
+    ++images;
+}
+
+double GroupImages::pixelVariance() const {
+    const double R = images;
+    double total = 0;
+    for (std::size_t i = 0; i < sum.size(); ++i) total += std::max(0.0, (sumSq[i] - sum[i] * sum[i] / R) / (R - 1));
+    return sum.empty() ? 0.0 : total / static_cast<double>(sum.size());
 }
 
 }  // namespace symphong

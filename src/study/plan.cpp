@@ -2,12 +2,14 @@
 #include "estimators/registry.h"
 #include "io/files.h"
 #include "io/input_error.h"
+#include "sampling/rng.h"
 #include "sampling/sampler_registry.h"
 #include "study/study_parts.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace fs = std::filesystem;
@@ -24,35 +26,70 @@ std::string sceneFingerprint(const std::string& spec) {
 
 }  // namespace
 
+std::string_view studyCostName(StudyCost cost) {
+    switch (cost) {
+        case StudyCost::Cpu: return "cpu";
+        case StudyCost::Wall: return "wall";
+        case StudyCost::Rays: return "rays";
+    }
+    return "cpu";
+}
+
+StudyCost parseStudyCost(std::string_view name) {
+    for (StudyCost c : {StudyCost::Cpu, StudyCost::Wall, StudyCost::Rays})
+        if (studyCostName(c) == name) return c;
+    throw std::invalid_argument(fmt::format("unknown cost '{}' (valid: cpu, wall, rays)", name));
+}
+
 std::vector<StudyVariant> studyVariants(const StudyConfig& c) {
     std::vector<StudyVariant> out;
     for (const std::string& e : c.estimators) {
         const auto probe = makeEstimator(e, c.options);
         const bool set = hasSymmetricModes(e);
+        const EstimatorEntry* entry = findEstimator(e);
+        const bool takesOrbit = entry && entry->traits.takesOrbit;
         std::vector<int> splits{1};
         if (std::find(c.splitEstimators.begin(), c.splitEstimators.end(), e) != c.splitEstimators.end())
             for (int k : c.splits)
                 if (k > 1) splits.push_back(k);
-        for (SymmetricMode mode : set ? c.modes : std::vector<SymmetricMode>{SymmetricMode::Branch})
-            for (int split : splits) {
-                // A branch-mode set already traces many directions from its first hit: not split further.
-                EstimatorOptions o = c.options;
-                o.symmetricMode = mode;
-                if (split > 1 && makeEstimator(e, o)->returnsSets()) continue;
-                for (const std::string& sampler : c.samplers) {
-                    StudyVariant v;
-                    v.estimator = e;
-                    v.mode = mode;
-                    v.split = split;
-                    v.sampler = effectiveSampler(*probe, sampler);
-                    v.label =
-                        e + (set && mode == SymmetricMode::Spread ? "+spread" : "") + (split > 1 ? fmt::format("+split{}", split) : "");
-                    if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
-                    if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; })) out.push_back(v);
+        for (SymmetricMode mode : set ? c.modes : std::vector<SymmetricMode>{SymmetricMode::Branch}) {
+            // --orbits: one variant per orbit in branch mode ("+orbitR"); otherwise the one orbit of the options.
+            std::vector<int> orbits{takesOrbit ? c.options.symmetricOrbit : 0};
+            const bool orbitVariants = takesOrbit && mode == SymmetricMode::Branch && !c.orbits.empty();
+            if (orbitVariants) orbits = c.orbits;
+            for (int orbit : orbits)
+                for (int split : splits) {
+                    // A branch-mode set already traces many directions from its first hit: not split further.
+                    EstimatorOptions o = c.options;
+                    o.symmetricMode = mode;
+                    if (orbit > 0) o.symmetricOrbit = orbit;
+                    const auto made = makeEstimator(e, o);
+                    if (split > 1 && made->returnsSets()) continue;
+                    for (const std::string& sampler : c.samplers) {
+                        StudyVariant v;
+                        v.estimator = e;
+                        v.mode = mode;
+                        v.split = split;
+                        v.orbit = orbit;
+                        v.pathsPerSample = split > 1                                        ? split
+                                           : takesOrbit && mode == SymmetricMode::Branch ? orbit
+                                           : made->returnsSets()                           ? 0
+                                                                                           : 1;
+                        v.sampler = effectiveSampler(*probe, sampler);
+                        v.label = e + (set && mode == SymmetricMode::Spread ? "+spread" : "") +
+                                  (orbitVariants ? fmt::format("+orbit{}", orbit) : "") + (split > 1 ? fmt::format("+split{}", split) : "");
+                        if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
+                        if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; }))
+                            out.push_back(v);
+                    }
                 }
-            }
+        }
     }
     return out;
+}
+
+std::uint64_t repeatSeed(std::uint64_t seed, std::uint32_t spp, int rep) {
+    return mixSeed(mixSeed(mixSeed(seed, 0x5EED), spp), static_cast<std::uint64_t>(rep));
 }
 
 /// Checks a study's configuration and puts its sample counts in order; returns the heat maps' spp.
@@ -81,6 +118,15 @@ std::uint32_t checkConfig(StudyConfig& c) {
     std::sort(c.spps.begin(), c.spps.end());
     c.spps.erase(std::unique(c.spps.begin(), c.spps.end()), c.spps.end());
     if (c.repeats < 1) throw InputError(fmt::format("--repeats {} must be at least 1", c.repeats));
+    if (c.targetInterval < 0 || !std::isfinite(c.targetInterval))
+        throw InputError(fmt::format("--target-interval {} must be a finite number >= 0", c.targetInterval));
+    if (c.targetInterval > 0 && c.repeats < 2)
+        throw InputError(fmt::format("--target-interval needs --repeats of at least 2 (got {}): an interval needs two repeats", c.repeats));
+    if (c.targetInterval > 0 && c.maxRepeats < c.repeats)
+        throw InputError(fmt::format("--max-repeats {} is less than --repeats {}", c.maxRepeats, c.repeats));
+    if (c.timeLimit < 0 || !std::isfinite(c.timeLimit)) throw InputError(fmt::format("--time {} must be a finite number >= 0", c.timeLimit));
+    for (int r : c.orbits)
+        if (r != 1 && r != 2 && r != 4 && r != 8) throw InputError(fmt::format("--orbits: {} is not one of 1, 2, 4, 8", r));
     for (int k : c.splits)
         if (k < 1 || k > 64) throw InputError(fmt::format("--splits: {} is out of range (1..64)", k));
     for (const auto& e : c.splitEstimators)
@@ -110,6 +156,7 @@ nlohmann::json referenceKey(const StudyConfig& c) {
 EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v) {
     EstimatorOptions o = c.options;
     o.symmetricMode = v.mode;
+    if (v.orbit > 0) o.symmetricOrbit = v.orbit;
     return o;
 }
 

@@ -46,19 +46,28 @@ std::string reportHeader(const ReportInputs& in) {
     std::string md = fmt::format("# Estimator study: {}\n\n", sceneName);
     if (cancelled) md += "**Interrupted**: these are the rows finished before the study was stopped.\n\n";
     md += fmt::format(
-        "Scene `{}`, {}x{} pixels, max depth {}, {} independent repeat(s) per variant and sample count, seed {}. {}\n"
-        "A variant is an estimator under a sampler (`@sampler`), in spread mode for the set estimators (`+spread`), with "
+        "Scene `{}`, {}x{} pixels, max depth {}, {} paired repeat(s) per variant and sample count{}, seed {}. {}\n"
+        "Efficiency is 1/(MSE x {}). A variant is an estimator under a sampler (`@sampler`), in spread mode for the set estimators "
+        "(`+spread`), with R symmetric copies of one point traced from each camera sample (`+orbitR`), with "
         "K directions from each camera sample's first hit (`+splitK`).\n"
         "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height "
-        "{}{}{}{}`.\n\n",
-        c.scene, c.width, c.height, c.maxDepth, c.repeats, c.seed, in.reference.note, c.scene, fmt::join(c.estimators, ","),
+        "{}{}{}{}{}`.\n\n",
+        c.scene, c.width, c.height, c.maxDepth, c.repeats,
+        c.targetInterval > 0 ? fmt::format(" (more at the top spp, up to a 95% interval of +-{:.0f}%: the answer says how many)", 100 * c.targetInterval)
+                             : std::string(),
+        c.seed, in.reference.note, costWords(c.cost), c.scene, fmt::join(c.estimators, ","),
         fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height,
         c.splits.empty() ? ""
                          : fmt::format(" --splits {} --split-estimators {}", fmt::join(c.splits, ","), fmt::join(c.splitEstimators, ",")),
         std::string(c.budgetPairs > 0 ? fmt::format(" --budget-pairs {}", c.budgetPairs) : "") +
             (c.jointFirstBounce ? " --joint-first-bounce" : ""),
         c.options.symmetricOrbit != EstimatorOptions{}.symmetricOrbit ? fmt::format(" --symmetric-orbit {}", c.options.symmetricOrbit)
-                                                                      : "");
+                                                                      : "",
+        (c.orbits.empty() ? std::string() : fmt::format(" --orbits {}", fmt::join(c.orbits, ","))) +
+            (c.cost != StudyCost::Cpu ? fmt::format(" --cost {}", studyCostName(c.cost)) : std::string()) +
+            (c.targetInterval > 0 ? fmt::format(" --target-interval {}{}", c.targetInterval,
+                                                c.timeLimit > 0 ? fmt::format(" --time {}", c.timeLimit) : std::string())
+                                  : std::string()));
     if (processes > 1)
         md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
     for (const auto& s : summary)
@@ -80,7 +89,7 @@ std::string reportPlots(const ReportInputs& in) {
         md +=
             "## Convergence\n\n![RMSE against samples per pixel](convergence_spp.png)\n\n"
             "![RMSE against render time](convergence_time.png)\n\n"
-            "## Efficiency\n\n![Efficiency relative to cosine](efficiency.png)\n\n";
+            "## Efficiency\n\n![Efficiency relative to phong](efficiency.png)\n\n";
         md +=
             fmt::format("## Where the error is ({} spp)\n\n![Per-pixel relative error](heatmaps.png)\n\n![Crops](crops.png)\n\n", heatSpp);
     } else {
@@ -113,22 +122,23 @@ std::string reportBudget(const ReportInputs& in) {
 
 std::string reportEqualSamples(const ReportInputs& in) {
     const std::vector<StudySummary>& summary = in.summary;
-    std::string md;
-    md +=
-        "## Equal samples\n\nMedians over the repeats; RMSE of luminance against the reference (its own noise removed), "
+    const std::string yard(yardstickEstimator());
+    std::string md = fmt::format(
+        "## Equal samples\n\nMeans over the repeats; RMSE of luminance against the reference (its own noise removed), "
         "relMSE = mean of (Y - Y_ref)^2 / (Y_ref^2 + 0.01), bias of the mean image with its standard error (flagged when "
-        "|z| > 4), efficiency 1/(MSE x time), each the median over repeats (time: the mean), relative to `cosine` under the same sampler "
-        "at the "
-        "same spp.\n\nThe last column is the same with relMSE in place of MSE.\n\n"
-        "| variant | spp | time (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs cosine | relMSE efficiency vs "
-        "cosine |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        "|z| > 4), efficiency 1/(MSE x {0}) from the means, relative to `{1}` under the same sampler at the same spp; the last "
+        "column is the same with relMSE in place of MSE.\n\n"
+        "| variant | spp | repeats | wall (s) | CPU (s) | Mrays | RMSE | relMSE | pixel variance | rel. bias | efficiency vs {1} | relMSE "
+        "efficiency vs {1} |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        costWords(in.config.cost), yard);
     for (const auto& s : summary) {
-        const StudySummary* cos = sameSampler(summary, std::string(yardstickEstimator()), s);
-        md += fmt::format("| {} | {} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} | {} |\n", s.variant, s.spp,
-                          s.seconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance, 100 * s.relativeBias, 100 * s.biasStdError,
-                          s.biasSignificant ? " **biased**" : "", cos && cos->efficiency > 0 ? factor(s.efficiency / cos->efficiency) : "-",
-                          cos && cos->efficiencyRel > 0 ? factor(s.efficiencyRel / cos->efficiencyRel) : "-");
+        const StudySummary* y = sameSampler(summary, yard, s);
+        md += fmt::format("| {} | {} | {} | {:.3g} | {:.3g} | {:.3g} | {:.4g} | {:.4g} | {:.3g} | {:+.2f}% +- {:.2f}%{} | {} | {} |\n",
+                          s.variant, s.spp, s.repeats, s.seconds, s.cpuSeconds, s.rays / 1e6, s.rmse, s.relMse, s.pixelVariance,
+                          100 * s.relativeBias, 100 * s.biasStdError, s.biasSignificant ? " **biased**" : "",
+                          y && y->efficiency > 0 ? factor(s.efficiency / y->efficiency) : "-",
+                          y && y->efficiencyRel > 0 ? factor(s.efficiencyRel / y->efficiencyRel) : "-");
     }
     return md;
 }
@@ -137,28 +147,29 @@ std::string reportEqualTime(const ReportInputs& in) {
     const StudyConfig& c = in.config;
     const std::vector<StudySummary>& summary = in.summary;
     std::string md;
-    // Equal time: efficiency is about constant in spp for an unbiased estimator, so the MSE reachable in
-    // time T is about 1/(efficiency x T); T = cosine's time at the highest spp.
+    // Equal cost: efficiency is about constant in spp for an unbiased estimator, so the MSE reachable at
+    // cost T is about 1/(efficiency x T); T = the yardstick's cost at the highest spp.
     std::uint32_t top = 0;
     for (const auto& s : summary) top = std::max(top, s.spp);
     const StudySummary* ref = nullptr;
     for (const auto& s : summary)
-        if (s.spp == top && s.estimator == yardstickEstimator() && (!ref || isIndependentSampler(s.sampler))) ref = &s;
+        if (s.spp == top && s.estimator == yardstickEstimator() && s.variant.find('+') == std::string::npos && !ref) ref = &s;
     if (!ref && !summary.empty()) ref = &summary.front();
-    if (ref && ref->seconds > 0) {
-        const double T = ref->seconds;
+    if (ref && ref->cost > 0 && ref->efficiency > 0) {
+        const double T = ref->cost;
+        const std::string unit = c.cost == StudyCost::Rays ? " rays" : " s";
         md += fmt::format(
-            "\n## Equal time\n\nRMSE each estimator would reach in {:.3g} s (the time `{}` took at {} spp), from its "
-            "efficiency at the sample count whose time is closest: RMSE_T = sqrt(1/(efficiency x T)).\n\n"
-            "| estimator | from spp | RMSE at {:.3g} s | vs `{}` |\n|---|---:|---:|---:|\n",
-            T, ref->variant, top, T, ref->variant);
+            "\n## Equal cost\n\nRMSE each variant would reach at a cost ({}) of {:.3g}{} (what `{}` took at {} spp), from its "
+            "efficiency at the sample count whose cost is closest: RMSE_T = sqrt(1/(efficiency x T)).\n\n"
+            "| variant | from spp | RMSE at equal cost | vs `{}` |\n|---|---:|---:|---:|\n",
+            costWords(c.cost), T, unit, ref->variant, top, ref->variant);
         const double refRmse = std::sqrt(1.0 / (ref->efficiency * T));
         for (const StudyVariant& v : studyVariants(c)) {
             const std::string& est = v.label;
             const StudySummary* bestFit = nullptr;
             for (const auto& s : summary)
-                if (s.variant == est && s.seconds > 0 && s.efficiency > 0 &&
-                    (!bestFit || std::abs(std::log(s.seconds / T)) < std::abs(std::log(bestFit->seconds / T))))
+                if (s.variant == est && s.cost > 0 && s.efficiency > 0 &&
+                    (!bestFit || std::abs(std::log(s.cost / T)) < std::abs(std::log(bestFit->cost / T))))
                     bestFit = &s;
             if (!bestFit) continue;
             const double rmseT = std::sqrt(1.0 / (bestFit->efficiency * T));

@@ -25,6 +25,7 @@ StudyRow rowFromJson(const nlohmann::json& j) {
     r.groupBiasThreshold = j.at("group_bias_threshold"), r.groupBiasSignificant = j.at("group_bias_significant");
     r.groupPixelVariance = j.at("group_pixel_variance"), r.split = j.at("split");
     r.groupFirstBounceVariance = j.at("group_first_bounce_variance");
+    r.cpuSeconds = j.at("cpu_seconds"), r.cost = j.at("cost"), r.paths = j.at("paths"), r.orbit = j.at("orbit");
     return r;
 }
 
@@ -51,8 +52,9 @@ KeptGroups keptGroups(const StudyConfig& c, const fs::path& dir, const std::func
                                          it.value().dump()));
     KeptGroups groups;
     for (const StudyRow& r : rows) groups[{r.spp, r.variant}].push_back(r);
+    // A group is finished with its first `repeats` rows; rows beyond them (--target-interval's rounds) are kept with it.
     for (auto it = groups.begin(); it != groups.end();)
-        it = static_cast<int>(it->second.size()) == c.repeats ? std::next(it) : groups.erase(it);
+        it = static_cast<int>(it->second.size()) >= c.repeats ? std::next(it) : groups.erase(it);
     say(fmt::format("resuming the study in {}: {} finished groups of rows kept", dir.string(), groups.size()));
     return groups;
 }

@@ -1,7 +1,9 @@
 // runStudy: the plan checked and the scene loaded (plan.cpp), the reference found or rendered
-// (reference.cpp), each variant rendered at each spp `repeats` times and measured (measure.cpp), then the
-// summary, conclusion (summary.cpp), plots and report (report.cpp). Every process of a shared study runs
-// it in step; only the writing process holds a StudyWriter, the one object that measures into files.
+// (reference.cpp), each variant rendered at each spp `repeats` times and measured (measure.cpp); with
+// --target-interval, rounds of paired repeats at the top spp until the answer's comparisons are settled
+// (study/comparisons.h) or --time or --max-repeats ends them; then the summary, conclusion (summary.cpp),
+// plots and report (report.cpp). Every process of a shared study runs it in step; only the writing process
+// holds a StudyWriter (writer.cpp), the one object that measures into files.
 #include "study/report_html.h"
 #include "study/study_parts.h"
 
@@ -20,6 +22,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 
 namespace fs = std::filesystem;
 
@@ -44,116 +47,6 @@ StopReason StudyRuntime::renderPasses(const Scene& scene, const Accel& accel, co
 }
 
 namespace {
-
-/// What only the writing process holds: the output directory and every file the study writes.
-class StudyWriter {
-public:
-    StudyWriter(const StudyConfig& c, const std::string& sceneName, std::uint32_t heatSpp, const std::vector<StudyVariant>& variants,
-                int processes)
-        : c_(c), dir_(c.outDir), sceneName_(sceneName), heatSpp_(heatSpp), variants_(variants), processes_(processes) {}
-
-    /// The output directories and an empty results.csv (fails early when they cannot be written).
-    void prepare() const {
-        std::error_code ec;
-        fs::create_directories(dir_ / "renders", ec);
-        fs::create_directories(dir_ / "heatmaps", ec);
-        if (ec || !fs::is_directory(dir_)) throw InputError(fmt::format("--out {}: cannot create the directory", c_.outDir));
-        writeFile((dir_ / "results.csv").string(), std::string(kStudyCsvHeader) + "\n");
-    }
-    const fs::path& dir() const { return dir_; }
-
-    /// A variant's first repeat at each spp, for report.html (half floats: what the page shows).
-    void writeSppRender(const std::string& label, std::uint32_t spp, const Image& image) const {
-        writeExr(image, sppRenderPath(dir_, label, spp).string(), true);
-    }
-
-    /// A variant's render at the heat maps' spp: its PNG and its relative error map.
-    void writeRender(const std::string& label, const Image& image, const Reference& ref) const {
-        writePng(image, (dir_ / "renders" / (label + ".png")).string());
-        const std::vector<float> map = relativeErrorMap(image, ref.image);
-        writeFile((dir_ / "heatmaps" / (label + ".f32")).string(),
-                  std::string(reinterpret_cast<const char*>(map.data()), map.size() * sizeof(float)));
-    }
-
-    /// results.csv and results.json with the rows so far, their summary and conclusion.
-    void writeResults(StudyOutcome& outcome, const Reference& ref) const {
-        writeFile((dir_ / "results.csv").string(), studyCsv(outcome.rows));
-        nlohmann::json variantList = nlohmann::json::array();
-        for (const auto& v : variants_)
-            variantList.push_back({{"label", v.label},
-                                   {"estimator", v.estimator},
-                                   {"sampler", v.sampler},
-                                   {"mode", symmetricModeName(v.mode)},
-                                   {"split", v.split}});
-        const Crop crop = this->crop();
-        nlohmann::json j;
-        j["config"] = {
-            {"scene", sceneName_},
-            {"scene_spec", c_.scene},
-            {"estimators", c_.estimators},
-            {"samplers", c_.samplers},
-            {"variants", variantList},
-            {"spp", c_.spps},
-            {"symmetric_orbit", c_.options.symmetricOrbit},
-            {"budget_pairs", c_.budgetPairs},
-            {"joint_first_bounce", c_.jointFirstBounce},
-            {"repeats", c_.repeats},
-            {"width", c_.width},
-            {"height", c_.height},
-            {"max_depth", c_.maxDepth},
-            {"seed", c_.seed},
-            {"processes", processes_},
-            {"reference",
-             {{"path", c_.referencePath},
-              {"estimator", c_.referenceEstimator},
-              {"spp", c_.referenceSpp},
-              {"mean_luminance", ref.mean.mean},
-              {"pixel_variance", ref.noise}}},
-            {"heatmap", {{"spp", heatSpp_}, {"width", c_.width}, {"height", c_.height}, {"crop", {crop.x, crop.y, crop.w, crop.h}}}}};
-        j["settings"] = studySettingsJson(c_);
-        j["rows"] = nlohmann::json::array();
-        for (const auto& r : outcome.rows) j["rows"].push_back(rowJson(r));
-        outcome.summary = summarizeStudy(outcome.rows);
-        j["summary"] = nlohmann::json::array();
-        for (const auto& s : outcome.summary) j["summary"].push_back(summaryJson(s));
-        outcome.conclusion = studyConclusion(outcome.summary, c_.spps);
-        j["conclusion"] = outcome.conclusion;
-        writeFile((dir_ / "results.json").string(), j.dump(1) + "\n");
-    }
-
-    /// The last results, the plots and report.md.
-    void finish(StudyOutcome& outcome, const Reference& ref) const {
-        writeResults(outcome, ref);
-        if (!outcome.cancelled && c_.plots) outcome.plotted = makePlots(c_, dir_);
-        // The answer's and tables' bootstrap intervals, once for report.md, report.html and the command line;
-        // none for an interrupted study (thousands of resamplings per cell take seconds under a sanitizer,
-        // more than a job stopped by its launcher has).
-        const int draws = outcome.cancelled ? 0 : kReportDraws;
-        outcome.answer = studyAnswer(c_, outcome.rows, outcome.summary, draws);
-        const std::vector<ReportTable> tables = studyTables(c_, outcome.rows, outcome.summary, draws);
-        const ReportInputs in{c_,        sceneName_,        outcome.summary, outcome.rows,   outcome.conclusion, ref, outcome.plotted,
-                              heatSpp_, outcome.cancelled, processes_,      outcome.answer, tables};
-        writeFile((dir_ / "report.md").string(), reportMarkdown(in));
-        writeFile((dir_ / "details.md").string(), reportDetailsMarkdown(in));
-        // Not when interrupted: its FLIP maps take seconds that a job stopped by its launcher does not have
-        // (mpirun kills the ranks a second after SIGTERM); the resumed study writes it.
-        std::error_code ec;
-        if (outcome.cancelled)
-            fs::remove(dir_ / "report.html", ec);  // an earlier run's page would not match these rows
-        else
-            writeFile((dir_ / "report.html").string(), reportHtml(reportHtmlData(in, dir_)));
-    }
-
-private:
-    Crop crop() const { return {c_.width / 3, c_.height / 3, std::max(1, c_.width / 3), std::max(1, c_.height / 3)}; }
-
-    const StudyConfig& c_;
-    fs::path dir_;
-    std::string sceneName_;
-    std::uint32_t heatSpp_;
-    const std::vector<StudyVariant>& variants_;
-    int processes_;
-};
 
 /// The study's progress bar: the work done before the render in flight (in estimated seconds), the
 /// camera samples of that render so far times its cost per sample, and its label.
@@ -186,6 +79,10 @@ struct StudyProgress {
     }
 };
 
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 /// One study in progress, in one process.
 class StudyRun {
 public:
@@ -201,6 +98,9 @@ private:
     bool renderReference();
     /// The repeats of one variant at one spp (and its variance budget at the top spp); false when cancelled.
     bool runGroup(std::uint32_t spp, std::size_t ei);
+    bool renderRepeat(std::uint32_t spp, std::size_t ei, int rep, const Estimator& est);
+    void refreshGroup(std::uint32_t spp, const std::string& label);
+    void repeatUntilSettled();
     double budgetVariance(std::uint32_t spp, std::size_t ei, const Estimator& est);
 
     StudyConfig c_;
@@ -220,6 +120,9 @@ private:
     StudyProgress progress_;
     int rowIndex_ = 0, rowCount_ = 0;
     StudyOutcome outcome_;
+    std::map<std::pair<std::uint32_t, std::string>, GroupImages> groups_;  ///< the writer's, by (spp, variant)
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    bool showProgress_ = false;
 };
 
 // Every process checks the configuration and loads the scene; the writer also makes the output
@@ -340,48 +243,155 @@ bool StudyRun::runGroup(std::uint32_t spp, std::size_t ei) {
         progress_.finished(cost_[name] * spp * c_.width * c_.height * c_.repeats);
         if (!writer_) return true;
         for (const StudyRow& row : kept_.at({spp, name})) outcome_.rows.push_back(row);
-        outcome_.keptRows += c_.repeats;
+        outcome_.keptRows += static_cast<int>(kept_.at({spp, name}).size());
         writer_->writeResults(outcome_, ref_);
         return true;
     }
     const auto est = makeEstimator(variant.estimator, variantOptions(c_, variant));
-    std::vector<Image> images;
-    std::vector<MeanWithError> means;
     const std::size_t firstRow = outcome_.rows.size();
     for (int rep = 0; rep < c_.repeats; ++rep) {
         progress_.start(fmt::format("{} {} spp, repeat {}/{} (row {}/{})", name, spp, rep + 1, c_.repeats, rowIndex_ + 1, rowCount_),
                         cost_[name]);
-        RenderSettings rs = base();
-        rs.spp = spp;
-        rs.sampler = variant.sampler;
-        rs.trace.firstHitSplit = variant.split;
-        rs.trace.jointFirstBounce = c_.jointFirstBounce;
-        rs.seed = mixSeed(mixSeed(mixSeed(c_.seed, ei + 1), spp), static_cast<std::uint64_t>(rep));
-        const RenderResult r = rt_.render(scene_, *accel_, *est, rs, &progress_.samples);
-        progress_.finished(cost_[name] * spp * c_.width * c_.height);
+        const bool done = renderRepeat(spp, ei, rep, *est);
         ++rowIndex_;
-        if (r.cancelled) {
+        if (!done) {
             outcome_.rows.resize(firstRow);  // keep only whole groups: their group columns are complete
+            groups_.erase({spp, name});
             return false;
         }
-        if (!writer_) continue;  // it helped render; the writer measures
-        const StudyRow row = measureRow(c_, scene_.name, variant, spp, rep, r, ref_);
-        means.push_back({row.meanLuminance, row.meanStdError});
-        if (rep == 0) writer_->writeSppRender(name, spp, r.image);
-        if (spp == heatSpp_ && rep == 0) writer_->writeRender(name, r.image, ref_);
-        images.push_back(r.image);
-        outcome_.rows.push_back(row);
-        if (rowObserver()) rowObserver()(outcome_.rows.size());
     }
     const double firstBounce = spp == c_.spps.back() && c_.budgetPairs > 0 ? budgetVariance(spp, ei, *est) : -1;
     if (outcome_.cancelled) {
         outcome_.rows.resize(firstRow);
+        groups_.erase({spp, name});
         return false;
     }
     if (!writer_) return true;
-    fillGroupColumns(outcome_.rows, firstRow, images, means, ref_, firstBounce);
+    groups_[{spp, name}].firstBounce = firstBounce;
+    refreshGroup(spp, name);
     writer_->writeResults(outcome_, ref_);
     return true;
+}
+
+// Repeat `rep` of a variant at spp (seed: the study's, the spp and the repeat number, the same for every
+// variant: repeats are paired), measured into a row and the group's accumulators; false when cancelled.
+bool StudyRun::renderRepeat(std::uint32_t spp, std::size_t ei, int rep, const Estimator& est) {
+    const StudyVariant& variant = variants_[ei];
+    RenderSettings rs = base();
+    rs.spp = spp;
+    rs.sampler = variant.sampler;
+    rs.trace.firstHitSplit = variant.split;
+    rs.trace.jointFirstBounce = c_.jointFirstBounce;
+    rs.seed = repeatSeed(c_.seed, spp, rep);
+    const RenderResult r = rt_.render(scene_, *accel_, est, rs, &progress_.samples);
+    progress_.finished(cost_[variant.label] * spp * c_.width * c_.height);
+    if (r.cancelled) return false;
+    if (!writer_) return true;  // it helped render; the writer measures
+    const StudyRow row = measureRow(c_, scene_.name, variant, spp, rep, r, ref_);
+    if (rep == 0 && (!c_.pageTopSppOnly || spp == c_.spps.back())) writer_->writeSppRender(variant.label, spp, r.image);
+    if (spp == heatSpp_ && rep == 0) writer_->writeRender(variant.label, r.image, ref_);
+    groups_[{spp, variant.label}].add(r.image);
+    outcome_.rows.push_back(row);
+    if (rowObserver()) rowObserver()(outcome_.rows.size());
+    return true;
+}
+
+// The group columns of every row of (spp, variant): the bias from all its repeats' means, the pixel
+// variance across the repeats whose images this run holds (kept rows of a resumed study keep theirs).
+void StudyRun::refreshGroup(std::uint32_t spp, const std::string& label) {
+    std::vector<std::size_t> idx;
+    std::vector<MeanWithError> means;
+    for (std::size_t i = 0; i < outcome_.rows.size(); ++i)
+        if (outcome_.rows[i].spp == spp && outcome_.rows[i].variant == label) {
+            idx.push_back(i);
+            means.push_back({outcome_.rows[i].meanLuminance, outcome_.rows[i].meanStdError});
+        }
+    if (idx.empty()) return;
+    const auto g = groups_.find({spp, label});
+    const BiasEstimate bias = relativeBias(means, ref_.mean);
+    for (std::size_t i : idx) {
+        StudyRow& row = outcome_.rows[i];
+        row.groupRelativeBias = bias.relative;
+        row.groupBiasStdError = bias.stdError;
+        row.groupBiasZ = bias.z;
+        row.groupBiasThreshold = bias.threshold;
+        row.groupBiasSignificant = bias.significant;
+        if (g != groups_.end() && g->second.images >= 2) row.groupPixelVariance = g->second.pixelVariance();
+        if (g != groups_.end() && g->second.firstBounce >= 0) row.groupFirstBounceVariance = g->second.firstBounce;
+    }
+}
+
+// --target-interval: rounds of paired repeats at the top spp. Round by round, every variant that a
+// comparison not yet settled needs renders its next repeat, until none does, --time would be passed by the
+// next round, or a variant needing one more has --max-repeats.
+void StudyRun::repeatUntilSettled() {
+    const std::uint32_t top = c_.spps.back();
+    const std::vector<Comparison> comparisons = studyComparisons(variants_);
+    double lastRound = 0;
+    std::unique_ptr<ProgressBar> bar;
+    std::atomic<int> settledCount{0};
+    if (showProgress_ && writer_)
+        bar = std::make_unique<ProgressBar>([&] { return static_cast<double>(settledCount.load()); }, static_cast<double>(comparisons.size()),
+                                            [this] {
+                                                std::lock_guard<std::mutex> lock(progress_.labelMutex);
+                                                return progress_.label;
+                                            },
+                                            true);
+    for (int round = 0;; ++round) {
+        std::vector<std::size_t> next;
+        std::string stop;
+        if (writer_) {
+            const std::set<std::string> need = variantsToRepeat(outcome_.rows, top, comparisons, c_.targetInterval);
+            int open = 0;
+            for (const Comparison& cmp : comparisons) open += need.count(cmp.variant) || need.count(cmp.against) ? 1 : 0;
+            settledCount = static_cast<int>(comparisons.size()) - open;
+            bool atMost = false;
+            for (std::size_t ei = 0; ei < variants_.size(); ++ei)
+                if (need.count(variants_[ei].label)) {
+                    if (repeatsOf(outcome_.rows, variants_[ei].label, top) >= c_.maxRepeats)
+                        atMost = true;
+                    else
+                        next.push_back(ei);
+                }
+            const double elapsed = secondsSince(start_);
+            if (need.empty())
+                stop = "target";
+            else if (next.empty() || atMost)
+                stop = "max-repeats";
+            else if (c_.timeLimit > 0 && elapsed + lastRound > c_.timeLimit)
+                stop = "time";
+        }
+        // Every process renders the same round: the writer decides and tells the others.
+        const int stopCode = rt_.writersInt(stop.empty() ? 0 : stop == "target" ? 1 : stop == "time" ? 2 : 3);
+        if (stopCode != 0) {
+            outcome_.stoppedBy = stopCode == 1 ? "target" : stopCode == 2 ? "time" : "max-repeats";
+            break;
+        }
+        std::vector<int> list(next.begin(), next.end());
+        list = rt_.writersInts(list);
+        const auto roundStart = std::chrono::steady_clock::now();
+        for (int ei : list) {
+            const StudyVariant& v = variants_[static_cast<std::size_t>(ei)];
+            const int rep = rt_.writersInt(writer_ ? repeatsOf(outcome_.rows, v.label, top) : 0);
+            progress_.start(fmt::format("round {}: {} {} spp, repeat {} ({} variants in this round)", round + 1, v.label, top, rep + 1,
+                                        list.size()),
+                            cost_[v.label]);
+            const auto est = makeEstimator(v.estimator, variantOptions(c_, v));
+            if (!renderRepeat(top, static_cast<std::size_t>(ei), rep, *est)) {
+                outcome_.cancelled = true;
+                // Rows of a round are whole repeats: keep those finished (a resumed study keeps them too).
+                break;
+            }
+            if (writer_) refreshGroup(top, v.label);
+        }
+        if (writer_) writer_->writeResults(outcome_, ref_);
+        if (outcome_.cancelled) {
+            outcome_.stoppedBy = "cancelled";
+            break;
+        }
+        lastRound = secondsSince(roundStart);
+    }
+    if (bar) bar->finish();
 }
 
 // The variance budget at the top spp: pairs of renders that differ only in the first bounce's numbers.
@@ -411,6 +421,8 @@ double StudyRun::budgetVariance(std::uint32_t spp, std::size_t ei, const Estimat
 }
 
 StudyOutcome StudyRun::run(bool showProgress) {
+    start_ = std::chrono::steady_clock::now();
+    showProgress_ = showProgress;
     prepare();
     const double total = plannedWork();
     rowCount_ = static_cast<int>(variants_.size() * c_.spps.size()) * c_.repeats;
@@ -425,6 +437,11 @@ StudyOutcome StudyRun::run(bool showProgress) {
         if (outcome_.cancelled) break;
     }
     bar.finish();
+    if (outcome_.cancelled)
+        outcome_.stoppedBy = "cancelled";
+    else if (c_.targetInterval > 0)
+        repeatUntilSettled();
+    outcome_.studySeconds = secondsSince(start_);
     if (writer_) writer_->finish(outcome_, ref_);
     return outcome_;
 }

@@ -12,9 +12,22 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace symphong {
+
+/// What a study's efficiency divides by: 1/(MSE x cost).
+enum class StudyCost {
+    Cpu,   ///< CPU seconds of the render's threads (summed over MPI ranks): what another program on the machine cannot bend
+    Wall,  ///< wall-clock seconds: what a user waits, on this machine under its load at the time
+    Rays,  ///< rays traced (closest-hit and shadow queries): a count, free of timing noise, blind to the cost of shading
+};
+
+/// "cpu", "wall", "rays".
+std::string_view studyCostName(StudyCost cost);
+/// Parses a cost's name; throws std::invalid_argument listing the valid ones.
+StudyCost parseStudyCost(std::string_view name);
 
 struct StudyConfig {
     std::string scene = "cornell";
@@ -32,7 +45,19 @@ struct StudyConfig {
     /// averaged, is the part of the pixel variance that comes from the first-bounce directions. 0: none.
     int budgetPairs = 0;
     bool jointFirstBounce = false;  ///< every render with TraceSettings::jointFirstBounce (the joint 4D pattern)
+    /// `symmetric-mix` in branch mode: one variant "+orbitR" per R (copies of one point traced from one camera
+    /// sample), each paired with `phong+splitR`; empty: the one orbit of options.symmetricOrbit.
+    std::vector<int> orbits;
+    /// Repeats of every variant at every spp; with targetInterval, the repeats before the first check.
     int repeats = 4;
+    StudyCost cost = StudyCost::Cpu;
+    /// > 0: at the top spp, add paired repeats (round r renders repeat r of each variant that needs it, seed r)
+    /// until the 95% interval of every comparison of the answer (each unbiased variant against the yardstick,
+    /// each fair pair) has a half-width of at most this fraction of its ratio and says ahead, behind or equal;
+    /// or until timeLimit or maxRepeats.
+    double targetInterval = 0;
+    double timeLimit = 0;  ///< > 0: no repeat round starts that would end after this many seconds of the study
+    int maxRepeats = 200;  ///< with targetInterval: the most repeats of any variant
     int width = 128, height = 128;
     int maxDepth = 16;
     std::uint64_t seed = 1;
@@ -44,6 +69,7 @@ struct StudyConfig {
     std::string referenceSampler = "independent";  ///< independent: the reference's own noise is then known
     std::string outDir = "out/study";
     std::uint32_t heatmapSpp = 0;  ///< spp of the heat maps and crops; 0: the middle of `spps`
+    bool pageTopSppOnly = false;   ///< report.html holds the renders of the top spp only (a smaller page)
     EstimatorOptions options;
     bool plots = true;
     /// Continue the study in outDir: keep the finished groups of rows of its results.json and resume
@@ -59,6 +85,10 @@ struct StudyVariant {
     std::string estimator, sampler, label;
     SymmetricMode mode = SymmetricMode::Branch;
     int split = 1;  ///< first-hit splitting: directions per camera sample at the first hit ("+splitk")
+    int orbit = 0;  ///< estimators that take an orbit (`symmetric-mix`): its copies R; 0 for the others
+    /// Paths each camera sample starts: split K, an orbit of R traced together (branch), or 1; 0 where it
+    /// varies from hit to hit (the branch mode of the other set estimators). Fair pairs have equal counts.
+    int pathsPerSample = 1;
 };
 
 /// The variants of a configuration, estimator by estimator, in the order of the lists, without duplicates.
@@ -71,15 +101,18 @@ struct StudyRow {
     int split = 1;
     int repeat = 0;
     int width = 0, height = 0;
-    double seconds = 0;
-    std::uint64_t rays = 0, samples = 0;
+    double seconds = 0;     ///< wall time of the render
+    double cpuSeconds = 0;  ///< CPU time of its threads (summed over ranks)
+    double cost = 0;        ///< what efficiency divides by (StudyConfig::cost): seconds, cpuSeconds or rays
+    std::uint64_t rays = 0, samples = 0, paths = 0;
+    int orbit = 0;
     double meanLuminance = 0, meanStdError = 0;
     double relativeBias = 0;  ///< this render's image mean against the reference's
     double mseRaw = 0;        ///< mean squared luminance error against the reference
     double mse = 0;           ///< mseRaw less the reference's own noise (its mean variance), at least 0
     double rmse = 0, relMse = 0;
-    double efficiency = 0;           ///< 1 / (mse * seconds)
-    double efficiencyRel = 0;        ///< 1 / (relMse * seconds): weighs dark regions like bright ones
+    double efficiency = 0;           ///< 1 / (mse * cost)
+    double efficiencyRel = 0;        ///< 1 / (relMse * cost): weighs dark regions like bright ones
     double pixelVarianceWithin = 0;  ///< mean over pixels of the render's own variance-of-mean (luminance)
     // group values over the R repeats of (estimator, spp)
     double groupRelativeBias = 0, groupBiasStdError = 0, groupBiasZ = 0;
@@ -91,12 +124,15 @@ struct StudyRow {
     double groupFirstBounceVariance = -1;
 };
 
-/// Aggregate of one (variant, spp) group.
+/// Aggregate of one (variant, spp) group: means over its repeats. A variant's efficiency is
+/// 1/(mean MSE x mean cost), the inverse of the expected error times the expected cost (a median of
+/// per-render efficiencies would hide the rare firefly render that a user pays for).
 struct StudySummary {
     std::string estimator, variant, sampler, mode;
     std::uint32_t spp = 0;
-    double seconds = 0, rmse = 0, rmseSpread = 0, mse = 0, relMse = 0, efficiency = 0, efficiencyRel = 0;
-    double rays = 0;
+    int repeats = 0;
+    double seconds = 0, cpuSeconds = 0, cost = 0, rmse = 0, rmseSpread = 0, mse = 0, relMse = 0, efficiency = 0, efficiencyRel = 0;
+    double rays = 0, paths = 0;
     double relativeBias = 0, biasStdError = 0, biasZ = 0;
     bool biasSignificant = false;
     double pixelVariance = 0;
@@ -109,8 +145,8 @@ struct StudySummary {
 extern const char* const kStudyCsvHeader;
 std::string studyCsv(const std::vector<StudyRow>& rows);
 
-/// Groups rows by (variant, spp), in the order of first appearance; the median over repeats of every
-/// error and efficiency measure (robust to one firefly repeat), the mean of time and rays.
+/// Groups rows by (variant, spp), in the order of first appearance; the mean over repeats of every measure,
+/// efficiency from the means (StudySummary).
 std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows);
 
 /// One paragraph answering, from the numbers: which variant wins where, and by what factor; each
@@ -126,6 +162,9 @@ struct StudyOutcome {
     int keptRows = 0;                ///< --resume: rows kept from the earlier run
     std::string conclusion;
     std::vector<std::string> answer;  ///< report.md's answer lines (study/answer.h), set when the report is written
+    /// What ended the repeats at the top spp: "fixed" (no --target-interval), "target", "time", "max-repeats".
+    std::string stoppedBy = "fixed";
+    double studySeconds = 0;  ///< wall time of the whole study
 };
 
 /// Called after each finished row with the number of rows so far, in every runStudy of the process
@@ -148,6 +187,8 @@ public:
     virtual std::string agreeOnError(const std::string& localError) const { return localError; }
     /// Collective: the writer's value, on every process.
     virtual bool writersValue(bool value) const { return value; }
+    virtual int writersInt(int value) const { return value; }
+    virtual std::vector<int> writersInts(std::vector<int> values) const { return values; }
     virtual bool writer() const { return true; }
     /// The reference in passes (render/progressive.h) until `rules` stop it; collective when shared: the
     /// writer runs the passes and `afterPass` (its checkpoints) and returns why they stopped, the others

@@ -1,7 +1,8 @@
 // study/study_parts.h — the pieces of `symphong study`, shared among its files and not part of its
 // interface (study.h): the plan (plan.cpp: checks, variants, the reference's cache key), the reference
 // (reference.cpp), the measurement of a render against it (measure.cpp), the summary and conclusion
-// (summary.cpp), and the report and plots (report.cpp); study.cpp runs them in order.
+// (summary.cpp), the report and plots (report.cpp) and the writer of every file (writer.cpp); study.cpp runs them
+// in order, and study/comparisons.h decides when its repeats are enough.
 #pragma once
 
 #include "io/image.h"
@@ -28,7 +29,9 @@ std::uint32_t checkConfig(StudyConfig& c);
 /// What the cached reference must match: scene (its file's content hash), size, spp, estimator, sampler,
 /// depth, seed.
 nlohmann::json referenceKey(const StudyConfig& c);
-/// The estimator options of a variant (its mode).
+/// The seed of repeat `rep` at spp: the same for every variant (repeats are paired).
+std::uint64_t repeatSeed(std::uint64_t seed, std::uint32_t spp, int rep);
+/// The estimator options of a variant (its mode, its orbit).
 EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v);
 
 // ---- reference.cpp
@@ -79,10 +82,6 @@ StudyRow rowFromJson(const nlohmann::json& j);
 StudyRow measureRow(const StudyConfig& c, const std::string& sceneName, const StudyVariant& variant, std::uint32_t spp, int rep,
                     const RenderResult& r, const Reference& ref);
 
-/// Fills the group columns of rows (one group: a variant at one spp, its repeats' images and means).
-void fillGroupColumns(std::vector<StudyRow>& rows, std::size_t firstRow, const std::vector<Image>& images,
-                      const std::vector<MeanWithError>& means, const Reference& ref, double firstBounceVariance);
-
 // ---- summary.cpp
 
 nlohmann::json rowJson(const StudyRow& r);
@@ -127,6 +126,47 @@ std::string reportDetailsMarkdown(const ReportInputs& in);
 /// Runs the embedded plotting script on dir with a python3 that has matplotlib; false (with a warning)
 /// when there is none or the script fails.
 bool makePlots(const StudyConfig& c, const std::filesystem::path& dir);
+
+// ---- writer.cpp
+
+/// What only the writing process holds: the output directory and every file the study writes.
+class StudyWriter {
+public:
+    StudyWriter(const StudyConfig& c, const std::string& sceneName, std::uint32_t heatSpp, const std::vector<StudyVariant>& variants,
+                int processes);
+    /// The output directories and an empty results.csv (fails early when they cannot be written).
+    void prepare() const;
+    const std::filesystem::path& dir() const { return dir_; }
+    /// A variant's first repeat at an spp, for report.html (half floats: what the page shows).
+    void writeSppRender(const std::string& label, std::uint32_t spp, const Image& image) const;
+    /// A variant's render at the heat maps' spp: its PNG and its relative error map.
+    void writeRender(const std::string& label, const Image& image, const Reference& ref) const;
+    /// results.csv and results.json with the rows so far, their summary, conclusion and comparisons.
+    void writeResults(StudyOutcome& outcome, const Reference& ref) const;
+    /// The last results, the plots, report.md, details.md and report.html.
+    void finish(StudyOutcome& outcome, const Reference& ref) const;
+
+private:
+    const StudyConfig& c_;
+    std::filesystem::path dir_;
+    std::string sceneName_;
+    std::uint32_t heatSpp_;
+    const std::vector<StudyVariant>& variants_;
+    int processes_;
+};
+
+/// The repeats' images of one group, as per-pixel sums of luminance and of its square (what the pixel
+/// variance across repeats needs: compare/metrics.h's pixelVarianceAcrossRepeats, in the same order), and
+/// its variance budget (measure.cpp).
+struct GroupImages {
+    std::vector<double> sum, sumSq;
+    int images = 0;
+    double firstBounce = -1;
+
+    void add(const Image& image);
+    /// The mean over pixels of the variance across the images (needs two).
+    double pixelVariance() const;
+};
 
 // ---- study.cpp
 

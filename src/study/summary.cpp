@@ -17,18 +17,19 @@ const char* const kStudyCsvHeader =
     "scene,estimator,variant,sampler,mode,spp,repeat,width,height,seconds,rays,samples,mean_luminance,mean_luminance_std_error,"
     "relative_bias,mse_raw,mse,rmse,relmse,efficiency,efficiency_relmse,pixel_variance_within,group_relative_bias,"
     "group_bias_std_error,group_bias_z,group_bias_threshold,group_bias_significant,group_pixel_variance,split,"
-    "group_first_bounce_variance";
+    "group_first_bounce_variance,cpu_seconds,cost,paths,orbit";
 
 std::string studyCsv(const std::vector<StudyRow>& rows) {
     std::string out = std::string(kStudyCsvHeader) + "\n";
     for (const StudyRow& r : rows)
         out += fmt::format(
             "{},{},{},{},{},{},{},{},{},{:.6g},{},{},{:.9g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:"
-            ".4g},{:.4g},{},{:.6g},{},{:.6g}\n",
+            ".4g},{:.4g},{},{:.6g},{},{:.6g},{:.6g},{:.9g},{},{}\n",
             r.scene, r.estimator, r.variant, r.sampler, r.mode, r.spp, r.repeat, r.width, r.height, r.seconds, r.rays, r.samples,
             r.meanLuminance, r.meanStdError, r.relativeBias, r.mseRaw, r.mse, r.rmse, r.relMse, r.efficiency, r.efficiencyRel,
             r.pixelVarianceWithin, r.groupRelativeBias, r.groupBiasStdError, r.groupBiasZ, r.groupBiasThreshold,
-            r.groupBiasSignificant ? 1 : 0, r.groupPixelVariance, r.split, r.groupFirstBounceVariance);
+            r.groupBiasSignificant ? 1 : 0, r.groupPixelVariance, r.split, r.groupFirstBounceVariance, r.cpuSeconds, r.cost, r.paths,
+            r.orbit);
     return out;
 }
 
@@ -51,26 +52,24 @@ std::vector<StudySummary> summarizeStudy(const std::vector<StudyRow>& rows) {
     for (StudySummary& s : out) {
         const auto& g = groups[{s.variant, s.spp}];
         const double n = static_cast<double>(g.size());
-        std::vector<double> eff, effRel, rmse, mse, relMse;
         double meanRmse = 0;
         for (const StudyRow* r : g) {
             s.seconds += r->seconds / n;
-            meanRmse += r->rmse / n;
+            s.cpuSeconds += r->cpuSeconds / n;
+            s.cost += r->cost / n;
             s.rays += static_cast<double>(r->rays) / n;
-            eff.push_back(r->efficiency);
-            effRel.push_back(r->efficiencyRel);
-            rmse.push_back(r->rmse);
-            mse.push_back(r->mse);
-            relMse.push_back(r->relMse);
+            s.paths += static_cast<double>(r->paths) / n;
+            s.mse += r->mse / n;
+            s.relMse += r->relMse / n;
+            meanRmse += r->rmse / n;
         }
         double spread = 0;
         for (const StudyRow* r : g) spread += (r->rmse - meanRmse) * (r->rmse - meanRmse);
         s.rmseSpread = g.size() > 1 ? std::sqrt(spread / (n - 1) / n) : 0.0;  // standard error of the mean RMSE
-        s.rmse = median(rmse);
-        s.mse = median(mse);
-        s.relMse = median(relMse);
-        s.efficiency = median(eff);
-        s.efficiencyRel = median(effRel);
+        s.repeats = static_cast<int>(g.size());
+        s.rmse = std::sqrt(s.mse);
+        s.efficiency = s.mse > 0 && s.cost > 0 ? 1.0 / (s.mse * s.cost) : 0.0;
+        s.efficiencyRel = s.relMse > 0 && s.cost > 0 ? 1.0 / (s.relMse * s.cost) : 0.0;
         s.firstBounceVariance = g.front()->groupFirstBounceVariance;
         s.relativeBias = g.front()->groupRelativeBias;
         s.biasStdError = g.front()->groupBiasStdError;
@@ -197,8 +196,12 @@ nlohmann::json rowJson(const StudyRow& r) {
             {"width", r.width},
             {"height", r.height},
             {"seconds", r.seconds},
+            {"cpu_seconds", r.cpuSeconds},
+            {"cost", r.cost},
             {"rays", r.rays},
             {"samples", r.samples},
+            {"paths", r.paths},
+            {"orbit", r.orbit},
             {"mean_luminance", r.meanLuminance},
             {"mean_luminance_std_error", r.meanStdError},
             {"relative_bias", r.relativeBias},
@@ -225,8 +228,12 @@ nlohmann::json summaryJson(const StudySummary& s) {
             {"sampler", s.sampler},
             {"mode", s.mode},
             {"spp", s.spp},
+            {"repeats", s.repeats},
             {"seconds", s.seconds},
+            {"cpu_seconds", s.cpuSeconds},
+            {"cost", s.cost},
             {"rays", s.rays},
+            {"paths", s.paths},
             {"rmse", s.rmse},
             {"rmse_spread", s.rmseSpread},
             {"mse", s.mse},

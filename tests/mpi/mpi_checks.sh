@@ -63,10 +63,25 @@ study)
   "${launch[@]}" -np 2 "$bin" "${study[@]}" -o "$work/mpi" >/dev/null 2>"$work/err" || fail "mpiexec study failed: $(cat "$work/err")"
   /usr/bin/python3 - "$work/single/results.json" "$work/mpi/results.json" <<'PY' || fail "the rows differ"
 import json, sys
-timing = {"seconds", "efficiency", "efficiency_relmse"}
+timing = {"seconds", "cpu_seconds", "cost", "efficiency", "efficiency_relmse"}
 a, b = ([{k: v for k, v in r.items() if k not in timing} for r in json.load(open(p))["rows"]] for p in sys.argv[1:])
 config = json.load(open(sys.argv[2]))["config"]
 sys.exit(0 if a == b and len(a) == 8 and config["processes"] == 2 else 1)
+PY
+  ;;
+study-rounds)
+  # --target-interval's rounds of repeats under MPI: rank 0 decides each round and every rank renders it.
+  # A target no study reaches and --max-repeats 4: the rounds are fixed, so the rows equal one process's.
+  study=(study cornell --estimators cosine,phong --spp 1,2 -R 2 -W 16 -H 16 --reference-spp 16 --no-plots -t 1
+         --target-interval 0.001 --max-repeats 4)
+  "$bin" "${study[@]}" -o "$work/single" >/dev/null
+  "${launch[@]}" -np 2 "$bin" "${study[@]}" -o "$work/mpi" >/dev/null 2>"$work/err" || fail "mpiexec study failed: $(cat "$work/err")"
+  /usr/bin/python3 - "$work/single/results.json" "$work/mpi/results.json" <<'PY' || fail "the rows differ"
+import json, sys
+timing = {"seconds", "cpu_seconds", "cost", "efficiency", "efficiency_relmse"}
+a, b = ([{k: v for k, v in r.items() if k not in timing} for r in json.load(open(p))["rows"]] for p in sys.argv[1:])
+mpi = json.load(open(sys.argv[2]))
+sys.exit(0 if a == b and len(a) == 2 * 2 + 2 * 4 and mpi["stopped_by"] == "max-repeats" and mpi["config"]["processes"] == 2 else 1)
 PY
   ;;
 study-bad-input)

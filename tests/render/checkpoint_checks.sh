@@ -185,7 +185,7 @@ study-resume)
   cmp whole/reference.exr parts/reference.exr || fail "the resumed reference differs from the uninterrupted one"
   python3 - whole/results.json parts/results.json <<'PY' || fail "the rows differ"
 import json, sys
-timing = {"seconds", "rays", "efficiency", "efficiency_relmse"}
+timing = {"seconds", "cpu_seconds", "cost", "rays", "efficiency", "efficiency_relmse"}
 a, b = (json.load(open(f))["rows"] for f in sys.argv[1:3])
 assert len(a) == len(b), (len(a), len(b))
 for x, y in zip(a, b):
