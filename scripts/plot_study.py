@@ -91,9 +91,11 @@ def efficiency(data, out_dir):
     if not rows:
         return
     fig, axes = plt.subplots(1, 2, figsize=(max(9.0, 0.55 * len(rows) * 2), 3.8))
-    for ax, key_, what in ((axes[0], "efficiency", "1/(MSE x time)"), (axes[1], "efficiency_relmse", "1/(relMSE x time)")):
-        cosines = [s for s in rows if s["estimator"] == "cosine"]
-        base_row = next((s for s in cosines if s.get("sampler") == "independent"), cosines[0] if cosines else None)
+    cost = {"cpu": "CPU time", "wall": "wall time", "rays": "rays"}.get(data["config"].get("cost", "wall"), "time")
+    for ax, key_, what in ((axes[0], "efficiency", f"1/(MSE x {cost})"), (axes[1], "efficiency_relmse", f"1/(relMSE x {cost})")):
+        # The yardstick: plain `phong` (branch mode, no split), under the independent sampler when there are several.
+        plain = [s for s in rows if s["estimator"] == "phong" and s["variant"].split("@")[0] == "phong"]
+        base_row = next((s for s in plain if s.get("sampler") == "independent"), plain[0] if plain else None)
         base = base_row[key_] if base_row else max(s[key_] for s in rows)
         for i, s in enumerate(rows):
             v = s[key_] / base
@@ -163,7 +165,10 @@ def main():
     with open(os.path.join(out_dir, "results.json")) as f:
         data = json.load(f)
     convergence(data, out_dir, "spp", "convergence_spp", "samples per pixel (equal samples)")
-    convergence(data, out_dir, "seconds", "convergence_time", "render time in seconds (equal time)")
+    if data["config"].get("cost", "wall") == "cpu":
+        convergence(data, out_dir, "cpu_seconds", "convergence_time", "CPU time of the render in seconds (equal cost)")
+    else:
+        convergence(data, out_dir, "seconds", "convergence_time", "render time in seconds (equal time)")
     efficiency(data, out_dir)
     heatmaps(data, out_dir)
     crops(data, out_dir)

@@ -116,9 +116,9 @@ nlohmann::json tablesJson(const std::vector<ReportTable>& tables) {
 nlohmann::json plotsJson(const fs::path& dir) {
     static const std::pair<const char*, const char*> kPlots[] = {{"convergence_spp.png", "RMSE against samples per pixel"},
                                                                   {"convergence_time.png", "RMSE against render time"},
-                                                                  {"efficiency.png", "Efficiency relative to the yardstick"},
-                                                                  {"heatmaps.png", "Per-pixel relative error"},
-                                                                  {"crops.png", "Crops"}};
+                                                                  {"efficiency.png", "Efficiency relative to the yardstick"}};
+    // Not heatmaps.png and crops.png: the viewer shows every render's error map and zooms itself, and they
+    // were a third of a page's size (details.md links them).
     nlohmann::json out = nlohmann::json::array();
     for (const auto& [file, title] : kPlots) {
         std::error_code ec;
