@@ -18,15 +18,38 @@ std::uint32_t topSpp(const std::vector<StudySummary>& summary) {
     return top;
 }
 
-/// The summaries at `spp` of unbiased variants, most efficient first.
-std::vector<const StudySummary*> ranked(const std::vector<StudySummary>& summary, std::uint32_t spp, bool rel) {
-    std::vector<const StudySummary*> out;
-    for (const auto& s : summary)
-        if (s.spp == spp && !biasedAnywhere(summary, s.variant) && (rel ? s.efficiencyRel : s.efficiency) > 0) out.push_back(&s);
-    std::stable_sort(out.begin(), out.end(), [rel](const StudySummary* a, const StudySummary* b) {
-        return (rel ? a->efficiencyRel : a->efficiency) > (rel ? b->efficiencyRel : b->efficiency);
-    });
-    return out;
+/// The summaries at `spp` of unbiased variants, most efficient first: by their efficiency ratio against the
+/// yardstick over the repeats both have (the yardstick itself 1), so that the order agrees with the paired
+/// factors the answer prints (a yardstick that took more repeats than a variant, for another comparison, has
+/// a mean over other renders); by their own efficiency when the study has no yardstick.
+std::vector<const StudySummary*> ranked(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
+                                        std::uint32_t spp, bool rel) {
+    const std::vector<Comparison> comparisons = studyComparisons(studyVariants(c));
+    const auto own = [rel](const StudySummary* s) { return rel ? s->efficiencyRel : s->efficiency; };
+    std::vector<std::pair<double, const StudySummary*>> out;
+    for (const auto& s : summary) {
+        if (s.spp != spp || biasedAnywhere(summary, s.variant) || own(&s) <= 0) continue;
+        double key = own(&s);
+        if (!comparisons.empty()) {
+            const bool isYard = std::any_of(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.against == s.variant; }) &&
+                                std::none_of(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.variant == s.variant; });
+            const auto cmp = std::find_if(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.variant == s.variant; });
+            const auto r = cmp != comparisons.end()
+                               ? compareVariants(rows, s.variant, cmp->against, spp, rel ? ErrorMeasure::RelMse : ErrorMeasure::Mse)
+                               : std::nullopt;
+            if (isYard)
+                key = 1.0;
+            else if (r)
+                key = r->point;
+            else
+                continue;
+        }
+        out.push_back({key, &s});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<const StudySummary*> order;
+    for (const auto& [key, s] : out) order.push_back(s);
+    return order;
 }
 
 std::string ratioText(const std::vector<StudyRow>& rows, const std::string& a, const std::string& b, std::uint32_t spp, ErrorMeasure m) {
@@ -34,10 +57,10 @@ std::string ratioText(const std::vector<StudyRow>& rows, const std::string& a, c
     return r ? intervalText(*r) : "-";
 }
 
-std::string mostEfficientLine(const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, bool rel) {
+std::string mostEfficientLine(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary, bool rel) {
     const std::uint32_t top = topSpp(summary);
     const ErrorMeasure m = rel ? ErrorMeasure::RelMse : ErrorMeasure::Mse;
-    const auto order = ranked(summary, top, rel);
+    const auto order = ranked(c, rows, summary, top, rel);
     if (order.empty()) return {};
     const StudySummary* best = order[0];
     std::string line = fmt::format("**Most efficient by {}** at {} spp: `{}`", rel ? "relMSE" : "MSE", top, best->variant);
@@ -157,7 +180,7 @@ std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<Stu
     if (summary.empty()) return {"No results."};
     const std::vector<PairResult> pairs = fairPairs(c, rows, topSpp(summary));
     std::vector<std::string> lines;
-    for (const std::string& l : {mostEfficientLine(rows, summary, false), mostEfficientLine(rows, summary, true), paysLine(pairs)})
+    for (const std::string& l : {mostEfficientLine(c, rows, summary, false), mostEfficientLine(c, rows, summary, true), paysLine(pairs)})
         if (!l.empty()) lines.push_back(l);
     // At most ten lines: the pairs take what the others leave (the relMSE line goes first when they need it).
     const std::size_t tail = 2;

@@ -53,3 +53,26 @@ def test_study_rows_equal_cli_rows(sym, cli, tmp_path):
     rows2, _ = sym.study(sym.load_scene("cornell"), estimators="cosine,symmetric", spp=(1, 2), repeats=2, width=16, height=12,
                          reference_spp=16, seed=4, plots=False, out=str(tmp_path / "py"))
     assert without_timing(rows2) == without_timing(rows)
+
+
+def test_study_takes_the_cost_and_repeat_keywords_of_the_schema(sym, cli, tmp_path):
+    """cost, orbits, target_interval, max_repeats and time are keywords of study(), as on the command line:
+    the same rows (timing aside), efficiency over rays, and the answer's fair pair."""
+    args = dict(estimators="phong,symmetric-mix", symmetric_modes="branch,spread", splits=[2], split_estimators="phong", orbits=[2],
+                spp=[4], repeats=2, width=12, height=12, reference_spp=32, seed=2, cost="rays", target_interval=0.001,
+                max_repeats=3, plots=False, threads=1)
+    rows, report = sym.study("cornell", out=str(tmp_path / "py"), **args)
+    cli("study", "cornell", "--estimators", "phong,symmetric-mix", "--symmetric-modes", "branch,spread", "--splits", 2,
+        "--split-estimators", "phong", "--orbits", 2, "--spp", 4, "-R", 2, "-W", 12, "-H", 12, "--reference-spp", 32, "--seed", 2,
+        "--cost", "rays", "--target-interval", 0.001, "--max-repeats", 3, "--no-plots", "-t", 1, "-o", tmp_path / "cli")
+    expected = json.loads((tmp_path / "cli" / "results.json").read_text())
+    assert without_timing(rows) == without_timing(expected["rows"])
+    assert {r["variant"] for r in rows} == {"phong", "phong+split2", "symmetric-mix+orbit2", "symmetric-mix+spread"}
+    assert all(r["cost"] == r["rays"] and r["efficiency"] == pytest.approx(1 / (r["mse"] * r["rays"])) for r in rows)
+    assert all(sum(1 for r in rows if r["variant"] == v) == 3 for v in {r["variant"] for r in rows}), "--max-repeats 3"
+    assert expected["stopped_by"] == "max-repeats"
+    text = (tmp_path / "py" / "report.md").read_text()
+    assert "`symmetric-mix+orbit2` against `phong+split2` (2 paths per camera sample)" in text
+    assert "1/(MSE x rays traced)" in text
+    with pytest.raises(ValueError, match="unknown cost 'seconds'"):
+        sym.study("cornell", cost="seconds", out=str(tmp_path / "bad"))
