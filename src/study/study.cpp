@@ -23,6 +23,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <tuple>
 
 namespace fs = std::filesystem;
 
@@ -96,8 +97,9 @@ private:
     double pilotCost(const std::string& name, const EstimatorOptions& options, const std::string& sampler) const;
     double plannedWork();
     bool renderReference();
-    /// The repeats of one variant at one spp (and its variance budget at the top spp); false when cancelled.
-    bool runGroup(std::uint32_t spp, std::size_t ei);
+    /// The repeats of every variant at one spp (and their variance budget at the top spp); false when cancelled.
+    bool runSpp(std::uint32_t spp);
+    void orderRows();
     bool renderRepeat(std::uint32_t spp, std::size_t ei, int rep, const Estimator& est);
     void refreshGroup(std::uint32_t spp, const std::string& label);
     void repeatUntilSettled();
@@ -235,42 +237,66 @@ bool StudyRun::renderReference() {
     return true;
 }
 
-bool StudyRun::runGroup(std::uint32_t spp, std::size_t ei) {
-    const StudyVariant& variant = variants_[ei];
-    const std::string& name = variant.label;
-    if (rt_.writersValue(kept_.count({spp, name}) > 0)) {  // --resume: this group was finished before
-        rowIndex_ += c_.repeats;
-        progress_.finished(cost_[name] * spp * c_.width * c_.height * c_.repeats);
-        if (!writer_) return true;
-        for (const StudyRow& row : kept_.at({spp, name})) outcome_.rows.push_back(row);
-        outcome_.keptRows += static_cast<int>(kept_.at({spp, name}).size());
-        writer_->writeResults(outcome_, ref_);
-        return true;
-    }
-    const auto est = makeEstimator(variant.estimator, variantOptions(c_, variant));
-    const std::size_t firstRow = outcome_.rows.size();
-    for (int rep = 0; rep < c_.repeats; ++rep) {
-        progress_.start(fmt::format("{} {} spp, repeat {}/{} (row {}/{})", name, spp, rep + 1, c_.repeats, rowIndex_ + 1, rowCount_),
-                        cost_[name]);
-        const bool done = renderRepeat(spp, ei, rep, *est);
-        ++rowIndex_;
-        if (!done) {
-            outcome_.rows.resize(firstRow);  // keep only whole groups: their group columns are complete
-            groups_.erase({spp, name});
-            return false;
+// The repeats of every variant at one spp, interleaved: repeat r of each variant in turn, then repeat r + 1
+// (A B C A B C ...), so that a change of the machine's speed during the study touches every variant alike
+// and the paired ratios cancel it; then each group's variance budget (top spp) and group columns.
+bool StudyRun::runSpp(std::uint32_t spp) {
+    std::vector<std::unique_ptr<Estimator>> estimators(variants_.size());
+    for (std::size_t ei = 0; ei < variants_.size(); ++ei) {
+        const StudyVariant& v = variants_[ei];
+        if (rt_.writersValue(kept_.count({spp, v.label}) > 0)) {  // --resume: this group was finished before
+            progress_.finished(cost_[v.label] * spp * c_.width * c_.height * c_.repeats);
+            rowIndex_ += c_.repeats;
+            if (!writer_) continue;
+            for (const StudyRow& row : kept_.at({spp, v.label})) outcome_.rows.push_back(row);
+            outcome_.keptRows += static_cast<int>(kept_.at({spp, v.label}).size());
+            continue;
         }
+        estimators[ei] = makeEstimator(v.estimator, variantOptions(c_, v));
     }
-    const double firstBounce = spp == c_.spps.back() && c_.budgetPairs > 0 ? budgetVariance(spp, ei, *est) : -1;
+    for (int rep = 0; rep < c_.repeats && !outcome_.cancelled; ++rep) {
+        for (std::size_t ei = 0; ei < variants_.size() && !outcome_.cancelled; ++ei) {
+            if (!estimators[ei]) continue;
+            const std::string& name = variants_[ei].label;
+            progress_.start(fmt::format("{} {} spp, repeat {}/{} (row {}/{})", name, spp, rep + 1, c_.repeats, rowIndex_ + 1, rowCount_),
+                            cost_[name]);
+            outcome_.cancelled = !renderRepeat(spp, ei, rep, *estimators[ei]);
+            ++rowIndex_;
+        }
+        if (writer_ && !outcome_.cancelled) writer_->writeResults(outcome_, ref_);
+    }
+    for (std::size_t ei = 0; ei < variants_.size() && !outcome_.cancelled; ++ei) {
+        if (!estimators[ei]) continue;
+        const double firstBounce = spp == c_.spps.back() && c_.budgetPairs > 0 ? budgetVariance(spp, ei, *estimators[ei]) : -1;
+        if (writer_ && !outcome_.cancelled) groups_[{spp, variants_[ei].label}].firstBounce = firstBounce;
+    }
     if (outcome_.cancelled) {
-        outcome_.rows.resize(firstRow);
-        groups_.erase({spp, name});
+        // Keep only whole groups (their group columns are complete): those of this spp with every repeat.
+        std::set<std::string> partial;
+        for (const StudyVariant& v : variants_)
+            if (repeatsOf(outcome_.rows, v.label, spp) < c_.repeats) partial.insert(v.label);
+        std::erase_if(outcome_.rows, [&](const StudyRow& r) { return r.spp == spp && partial.count(r.variant); });
+        for (std::size_t ei = 0; ei < variants_.size(); ++ei)
+            if (writer_ && estimators[ei] && !partial.count(variants_[ei].label)) refreshGroup(spp, variants_[ei].label);
+        orderRows();
         return false;
     }
     if (!writer_) return true;
-    groups_[{spp, name}].firstBounce = firstBounce;
-    refreshGroup(spp, name);
+    for (std::size_t ei = 0; ei < variants_.size(); ++ei)
+        if (estimators[ei]) refreshGroup(spp, variants_[ei].label);
+    orderRows();
     writer_->writeResults(outcome_, ref_);
     return true;
+}
+
+// The rows in the order of the tables: by spp, variant (the study's order), then repeat, however they were
+// rendered (interleaved, in rounds, or kept from an earlier run).
+void StudyRun::orderRows() {
+    std::map<std::string, std::size_t> variantIndex;
+    for (std::size_t i = 0; i < variants_.size(); ++i) variantIndex[variants_[i].label] = i;
+    std::stable_sort(outcome_.rows.begin(), outcome_.rows.end(), [&](const StudyRow& a, const StudyRow& b) {
+        return std::tuple(a.spp, variantIndex[a.variant], a.repeat) < std::tuple(b.spp, variantIndex[b.variant], b.repeat);
+    });
 }
 
 // Repeat `rep` of a variant at spp (seed: the study's, the spp and the repeat number, the same for every
@@ -384,7 +410,10 @@ void StudyRun::repeatUntilSettled() {
             }
             if (writer_) refreshGroup(top, v.label);
         }
-        if (writer_) writer_->writeResults(outcome_, ref_);
+        if (writer_) {
+            orderRows();
+            writer_->writeResults(outcome_, ref_);
+        }
         if (outcome_.cancelled) {
             outcome_.stoppedBy = "cancelled";
             break;
@@ -432,10 +461,11 @@ StudyOutcome StudyRun::run(bool showProgress) {
         outcome_.cancelled = true;
         return outcome_;
     }
-    for (std::uint32_t spp : c_.spps) {
-        for (std::size_t ei = 0; ei < variants_.size() && !outcome_.cancelled; ++ei) outcome_.cancelled = !runGroup(spp, ei);
-        if (outcome_.cancelled) break;
-    }
+    for (std::uint32_t spp : c_.spps)
+        if (!runSpp(spp)) {
+            outcome_.cancelled = true;
+            break;
+        }
     bar.finish();
     if (outcome_.cancelled)
         outcome_.stoppedBy = "cancelled";
