@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Regenerates the estimator studies committed under docs/study/ and the page that answers across them
-# (docs/study/report.md, with the regime map docs/study/regime-map.png), in about 30 minutes on 2 cores
+# (docs/study/report.md, with the regime map docs/study/regime-map.png), in about 21 minutes on 2 cores
 # (docs/performance.md has the measured time of each run). Two sets of scenes:
 #   - the six boxes (docs/study/<name>/): the built-in Cornell box, its diffuse, glossy (n = 100, 1000) and
 #     all-glossy variants, and McGuire's glossy box; every estimator family, at 4 and 16 spp, 96x96;
 #   - the regime scenes (docs/study/regime/<name>/, scenes/regime/): a glossy sphere and floor under a small
 #     or a large area light, a smooth sky, or the sky with a sun, at n = 1, 10, 100, 1000, two albedo
-#     variants and the Stanford bunny; phong and symmetric-mix only, at 16 spp, 128x96.
+#     variants and the Stanford bunny; phong and symmetric-mix only, at 16 spp, 128x96, without plots and pages.
 # Every study compares at equal paths per camera sample (`symmetric-mix` with an orbit of R = 2, 4, 8
 # against `phong` split R ways; its spread mode against plain `phong`), divides by CPU time (--cost cpu:
 # a busy machine does not bend it) and adds paired repeats at the top spp until every comparison is
@@ -35,7 +35,10 @@ pairs=(--symmetric-modes branch,spread --splits 2,4,8 --split-estimators phong -
        --cost cpu --target-interval 0.1 --max-repeats 200 --page-top-spp-only)
 box_args=(--estimators cosine,phong,paper,symmetric,symmetric-mix "${pairs[@]}" --spp 4,16 --repeats 6 --time 150
           -W 96 -H 96 --reference-spp 4096 --budget-pairs 1)
-regime_args=(--estimators phong,symmetric-mix "${pairs[@]}" --spp 16 --repeats 6 --time 90 -W 128 -H 96 --reference-spp 2048)
+# The regime scenes without plots or report.html (one spp: no convergence to plot; their pages would add 23 MB
+# to the repository per regeneration): report.md, details.md and the results.
+regime_args=(--estimators phong,symmetric-mix "${pairs[@]}" --spp 16 --repeats 6 --time 90 -W 128 -H 96 --reference-spp 2048
+             --no-plots --no-page)
 
 run() {  # run OUT SCENE ARGS...
   local out=$1 scene=$2
@@ -49,7 +52,7 @@ for scene in "${boxes[@]}"; do run "$top/$(basename "$scene" .json)" "$scene" "$
 for scene in "${regime[@]}"; do
   out="$top/regime/$(basename "$scene" .json)"
   run "$out" "$scene" "${regime_args[@]}" "$@"
-  rm -rf "$out/renders" "$out/heatmaps"  # the page shows them
+  rm -rf "$out/renders" "$out/heatmaps" "$out"/*.png  # no page shows them
 done
 elapsed=$(( $(date +%s) - start ))
 

@@ -847,3 +847,19 @@ TEST(StudyRepeats, BadTargetsAreInputErrors) {
     EXPECT_NE(err.find("unknown cost 'seconds' (valid: cpu, wall, rays)"), std::string::npos) << err;
     fs::remove_all(dir);
 }
+
+TEST(Study, NoPageLeavesReportHtmlOutAndSaysSo) {
+    const fs::path dir = freshDir("no-page");
+    StudyConfig c = tinyConfig(dir);
+    c.estimators = {"phong"};
+    c.spps = {2};
+    fs::create_directories(dir);
+    writeFile((dir / "report.html").string(), "an earlier run's page");
+    c.page = false;
+    runStudy(c);
+    EXPECT_FALSE(fs::exists(dir / "report.html")) << "an earlier page would not match these rows";
+    const std::string md = readAll(dir / "report.md");
+    EXPECT_NE(md.find("No report.html (`--no-page`)"), std::string::npos);
+    EXPECT_NE(readAll(dir / "details.md").find("Plots were not asked for (`--no-plots`)"), std::string::npos);
+    fs::remove_all(dir);
+}

@@ -144,6 +144,10 @@ const schema::Schema<StudyOptions>& studySchema() {
                         .orNone()
                         .keepsPixels());
         s.push_back(F("no_plots", "--no-plots", "skip the plots", schema::member(&O::noPlots)).python("plots", true).keepsPixels());
+        s.push_back(F("no_page", "--no-page", "skip report.html (report.md, details.md and the results are written)",
+                      schema::member(&O::noPage))
+                        .python("page", true)
+                        .keepsPixels());
         s.push_back(F("resume", "--resume",
                       "continue the study in --out: keep the finished groups of rows of its results.json and resume its reference "
                       "from reference.ckpt (refused when they are of other settings)",
@@ -237,6 +241,7 @@ StudyConfig toStudyConfig(const StudyOptions& o, bool validateNames) {
     c.spps = o.spps;
     c.splitEstimators = nameList(o.splitEstimators, estimatorNames(), "--split-estimators", validateNames);
     c.plots = !o.noPlots;
+    c.page = !o.noPage;
     return c;
 }
 
@@ -251,6 +256,7 @@ StudyOptions studyOptionsOf(const StudyConfig& c) {
     o.spps = c.spps;
     o.splitEstimators = fmt::format("{}", fmt::join(c.splitEstimators, ","));
     o.noPlots = !c.plots;
+    o.noPage = !c.page;
     return o;
 }
 

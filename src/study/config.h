@@ -21,6 +21,7 @@ struct StudyOptions {
     std::vector<std::uint32_t> spps = {1, 4, 16, 64};
     std::string splitEstimators = "phong,symmetric-mix";
     bool noPlots = false;
+    bool noPage = false;
 };
 
 struct FurnaceOptions {

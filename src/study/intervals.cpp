@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace symphong {
 
@@ -51,6 +52,14 @@ double studentCdf(double t, double nu) {
     return t >= 0 ? 1 - tail : tail;
 }
 
+/// t_{0.975, dof}, remembered per thread (a study asks for the same few thousands of times).
+double t975(int dof) {
+    thread_local std::unordered_map<int, double> known;
+    const auto it = known.find(dof);
+    if (it != known.end()) return it->second;
+    return known[dof] = studentQuantile(0.975, dof);
+}
+
 double mean(const std::vector<double>& v) {
     double s = 0;
     for (double x : v) s += x;
@@ -90,7 +99,7 @@ std::optional<RatioInterval> efficiencyRatio(const std::vector<double>& mseA, co
     double ss = 0;
     for (double x : z) ss += (x - zm) * (x - zm);
     const double se = std::sqrt(ss / static_cast<double>(n - 1) / static_cast<double>(n));
-    const double h = studentQuantile(0.975, static_cast<int>(n) - 1) * se;
+    const double h = t975(static_cast<int>(n) - 1) * se;
     r.lo = r.point * std::exp(-h);
     r.hi = r.point * std::exp(h);
     return r;
@@ -105,7 +114,7 @@ RatioInterval meanInterval(const std::vector<double>& values) {
     if (values.size() < 2) return r;
     double ss = 0;
     for (double x : values) ss += (x - r.point) * (x - r.point);
-    const double h = studentQuantile(0.975, r.n - 1) * std::sqrt(ss / (r.n - 1) / r.n);
+    const double h = t975(r.n - 1) * std::sqrt(ss / (r.n - 1) / r.n);
     const bool nonNegative = std::all_of(values.begin(), values.end(), [](double x) { return x >= 0; });
     r.lo = nonNegative ? std::max(0.0, r.point - h) : r.point - h;
     r.hi = r.point + h;

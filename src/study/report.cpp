@@ -92,6 +92,8 @@ std::string reportPlots(const ReportInputs& in) {
             "## Efficiency\n\n![Efficiency relative to phong](efficiency.png)\n\n";
         md +=
             fmt::format("## Where the error is ({} spp)\n\n![Per-pixel relative error](heatmaps.png)\n\n![Crops](crops.png)\n\n", heatSpp);
+    } else if (!in.config.plots) {
+        md += "Plots were not asked for (`--no-plots`); `python3 scripts/plot_study.py` on this folder draws them.\n\n";
     } else {
         md += "Plots were not made (no python3 with matplotlib); run `python3 scripts/plot_study.py` on this folder.\n\n";
     }
@@ -185,9 +187,10 @@ std::string reportEqualTime(const ReportInputs& in) {
 std::string reportMarkdown(const ReportInputs& in) {
     std::string md = reportHeader(in) + "## The answer\n\n";
     for (const std::string& line : in.answer) md += "- " + line + "\n";
-    md += in.cancelled ? "\nreport.html is written when the study finishes (`--resume` continues it). "
-                       : "\nSee it: [report.html](report.html) (every render beside the reference, error and FLIP maps, zoom, plots). ";
-    md += "Details: [details.md](details.md) (every measure of every group, the variance budget, equal time, plots).\n\n";
+    md += in.cancelled      ? "\nreport.html is written when the study finishes (`--resume` continues it). "
+          : !in.config.page ? "\nNo report.html (`--no-page`); run the study without it for the page of every render. "
+                            : "\nSee it: [report.html](report.html) (every render beside the reference, error and FLIP maps, zoom, plots). ";
+    md += "Details: [details.md](details.md) (every measure of every group, the variance budget, equal cost, plots).\n\n";
     for (const ReportTable& t : in.tables) md += tableMarkdown(t);
     return md;
 }

@@ -72,6 +72,7 @@ struct StudyConfig {
     bool pageTopSppOnly = false;   ///< report.html holds the renders of the top spp only (a smaller page)
     EstimatorOptions options;
     bool plots = true;
+    bool page = true;  ///< write report.html (the page holds every render: a megabyte or more)
     /// Continue the study in outDir: keep the finished groups of rows of its results.json and resume
     /// its reference from reference.ckpt (both only when they are of this study's settings).
     bool resume = false;

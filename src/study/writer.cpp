@@ -105,7 +105,7 @@ void StudyWriter::finish(StudyOutcome& outcome, const Reference& ref) const {
     // Not when interrupted: its FLIP maps take seconds that a job stopped by its launcher does not have
     // (mpirun kills the ranks a second after SIGTERM); the resumed study writes it.
     std::error_code ec;
-    if (outcome.cancelled)
+    if (outcome.cancelled || !c_.page)
         fs::remove(dir_ / "report.html", ec);  // an earlier run's page would not match these rows
     else
         writeFile((dir_ / "report.html").string(), reportHtml(reportHtmlData(in, dir_)));
