@@ -134,7 +134,7 @@ TEST(RepeatsUntilSettled, StopsWhereTheClosedFormSays) {
             if (std::sinh(h) <= H && (!needEqualBand || h <= std::log(1.1))) return n;  // sinh: (e^h - e^-h) / 2
         }
     };
-    const std::vector<Comparison> comparisons = {{"near", "yard", false, 0}, {"far", "yard", false, 0}};
+    const std::vector<VariantPair> comparisons = {{"near", "yard", false, 0}, {"far", "yard", false, 0}};
     std::vector<StudyRow> rows;
     std::map<std::string, int> count;
     for (const std::string v : {"yard", "near", "far"})

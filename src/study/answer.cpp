@@ -24,16 +24,16 @@ std::uint32_t topSpp(const std::vector<StudySummary>& summary) {
 /// a mean over other renders); by their own efficiency when the study has no yardstick.
 std::vector<const StudySummary*> ranked(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary,
                                         std::uint32_t spp, bool rel) {
-    const std::vector<Comparison> comparisons = studyComparisons(studyVariants(c));
+    const std::vector<VariantPair> comparisons = studyComparisons(studyVariants(c));
     const auto own = [rel](const StudySummary* s) { return rel ? s->efficiencyRel : s->efficiency; };
     std::vector<std::pair<double, const StudySummary*>> out;
     for (const auto& s : summary) {
         if (s.spp != spp || biasedAnywhere(summary, s.variant) || own(&s) <= 0) continue;
         double key = own(&s);
         if (!comparisons.empty()) {
-            const bool isYard = std::any_of(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.against == s.variant; }) &&
-                                std::none_of(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.variant == s.variant; });
-            const auto cmp = std::find_if(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.variant == s.variant; });
+            const bool isYard = std::any_of(comparisons.begin(), comparisons.end(), [&](const VariantPair& x) { return x.against == s.variant; }) &&
+                                std::none_of(comparisons.begin(), comparisons.end(), [&](const VariantPair& x) { return x.variant == s.variant; });
+            const auto cmp = std::find_if(comparisons.begin(), comparisons.end(), [&](const VariantPair& x) { return x.variant == s.variant; });
             const auto r = cmp != comparisons.end()
                                ? compareVariants(rows, s.variant, cmp->against, spp, rel ? ErrorMeasure::RelMse : ErrorMeasure::Mse)
                                : std::nullopt;
@@ -76,14 +76,14 @@ std::string mostEfficientLine(const StudyConfig& c, const std::vector<StudyRow>&
 }
 
 struct PairResult {
-    Comparison cmp;
+    VariantPair cmp;
     std::optional<RatioInterval> ratio;
     Verdict verdict = Verdict::Unresolved;
 };
 
 std::vector<PairResult> fairPairs(const StudyConfig& c, const std::vector<StudyRow>& rows, std::uint32_t top) {
     std::vector<PairResult> out;
-    for (const Comparison& cmp : studyComparisons(studyVariants(c)))
+    for (const VariantPair& cmp : studyComparisons(studyVariants(c)))
         if (cmp.fairPair) {
             PairResult p{cmp, compareVariants(rows, cmp.variant, cmp.against, top), Verdict::Unresolved};
             if (p.ratio) p.verdict = verdictOf(*p.ratio);
@@ -197,7 +197,7 @@ std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<Stu
 nlohmann::json answerComparisonsJson(const StudyConfig& c, const std::vector<StudyRow>& rows, const std::vector<StudySummary>& summary) {
     nlohmann::json out = nlohmann::json::array();
     const std::uint32_t top = topSpp(summary);
-    for (const Comparison& cmp : studyComparisons(studyVariants(c))) {
+    for (const VariantPair& cmp : studyComparisons(studyVariants(c))) {
         nlohmann::json j = {{"variant", cmp.variant},
                             {"against", cmp.against},
                             {"fair_pair", cmp.fairPair},
@@ -221,7 +221,7 @@ std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<Stu
     std::vector<std::string> columns = {"variant"};
     for (std::uint32_t spp : c.spps) columns.push_back(fmt::format("{} spp", spp));
     const std::vector<StudyVariant> variants = studyVariants(c);
-    const std::vector<Comparison> comparisons = studyComparisons(variants);
+    const std::vector<VariantPair> comparisons = studyComparisons(variants);
     const std::string yard(yardstickEstimator());
     for (const bool rel : {false, true}) {
         ReportTable t{fmt::format("Efficiency by {}, relative to `{}` (95% interval)", rel ? "relMSE" : "MSE", yard),
@@ -231,8 +231,8 @@ std::vector<ReportTable> studyTables(const StudyConfig& c, const std::vector<Stu
                       {}};
         for (const StudyVariant& v : variants) {
             std::vector<ReportCell> row = {{fmt::format("`{}`{}", v.label, biasedAnywhere(summary, v.label) ? " (biased)" : ""), {}}};
-            const auto cmp = std::find_if(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.variant == v.label; });
-            const bool isYard = std::any_of(comparisons.begin(), comparisons.end(), [&](const Comparison& x) { return x.against == v.label; }) &&
+            const auto cmp = std::find_if(comparisons.begin(), comparisons.end(), [&](const VariantPair& x) { return x.variant == v.label; });
+            const bool isYard = std::any_of(comparisons.begin(), comparisons.end(), [&](const VariantPair& x) { return x.against == v.label; }) &&
                                 v.estimator == yard && v.split == 1;
             for (std::uint32_t spp : c.spps) {
                 if (isYard && repeatsOf(rows, v.label, spp) > 0) {

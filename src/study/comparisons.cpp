@@ -31,8 +31,8 @@ bool isCandidate(const StudyVariant& v) {
 
 }  // namespace
 
-std::vector<Comparison> studyComparisons(const std::vector<StudyVariant>& variants) {
-    std::vector<Comparison> out, pairs;
+std::vector<VariantPair> studyComparisons(const std::vector<StudyVariant>& variants) {
+    std::vector<VariantPair> out, pairs;
     for (const StudyVariant& v : variants) {
         const StudyVariant* y = yardstickFor(variants, v, 1);
         if (y && y != &v) out.push_back({v.label, y->label, isCandidate(v) && v.pathsPerSample == 1, isCandidate(v) ? 1 : 0});
@@ -69,10 +69,10 @@ bool biasedAt(const std::vector<StudyRow>& rows, const std::string& variant, std
                        [&](const StudyRow& r) { return r.variant == variant && r.spp == spp && r.groupBiasSignificant; });
 }
 
-std::set<std::string> variantsToRepeat(const std::vector<StudyRow>& rows, std::uint32_t spp, const std::vector<Comparison>& comparisons,
+std::set<std::string> variantsToRepeat(const std::vector<StudyRow>& rows, std::uint32_t spp, const std::vector<VariantPair>& comparisons,
                                        double target) {
     std::set<std::string> need;
-    for (const Comparison& c : comparisons) {
+    for (const VariantPair& c : comparisons) {
         if (biasedAt(rows, c.variant, spp) || biasedAt(rows, c.against, spp)) continue;
         const auto r = compareVariants(rows, c.variant, c.against, spp);
         if (r && settled(*r, target)) continue;

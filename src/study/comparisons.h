@@ -18,7 +18,7 @@
 namespace symphong {
 
 /// `variant` against `against`.
-struct Comparison {
+struct VariantPair {
     std::string variant, against;
     bool fairPair = false;  ///< equal paths per camera sample: the answer gives it a line of its own
     int paths = 0;          ///< fair pairs: the paths per camera sample of both
@@ -27,7 +27,7 @@ struct Comparison {
 /// The answer's comparisons among `variants`, in their order: each against the yardstick under the same
 /// sampler (the yardstick itself not), then the fair pairs of candidates with more than one path per camera
 /// sample; a candidate with one path per camera sample has its comparison with the yardstick marked fair.
-std::vector<Comparison> studyComparisons(const std::vector<StudyVariant>& variants);
+std::vector<VariantPair> studyComparisons(const std::vector<StudyVariant>& variants);
 
 /// Which measure of the rows a ratio uses: 1/(MSE x cost) or 1/(relMSE x cost).
 enum class ErrorMeasure { Mse, RelMse };
@@ -43,7 +43,7 @@ bool biasedAt(const std::vector<StudyRow>& rows, const std::string& variant, std
 /// The variants that need another repeat at spp for every comparison to be settled (study/intervals.h:
 /// ahead, behind or equal, relative half-width at most `target`): both sides of each unsettled comparison
 /// whose variants are not biased. Empty: every comparison is settled.
-std::set<std::string> variantsToRepeat(const std::vector<StudyRow>& rows, std::uint32_t spp, const std::vector<Comparison>& comparisons,
+std::set<std::string> variantsToRepeat(const std::vector<StudyRow>& rows, std::uint32_t spp, const std::vector<VariantPair>& comparisons,
                                        double target);
 
 /// The repeats of `variant` at spp.

@@ -352,7 +352,7 @@ void StudyRun::refreshGroup(std::uint32_t spp, const std::string& label) {
 // next round, or a variant needing one more has --max-repeats.
 void StudyRun::repeatUntilSettled() {
     const std::uint32_t top = c_.spps.back();
-    const std::vector<Comparison> comparisons = studyComparisons(variants_);
+    const std::vector<VariantPair> comparisons = studyComparisons(variants_);
     double lastRound = 0;
     std::unique_ptr<ProgressBar> bar;
     std::atomic<int> settledCount{0};
@@ -369,7 +369,7 @@ void StudyRun::repeatUntilSettled() {
         if (writer_) {
             const std::set<std::string> need = variantsToRepeat(outcome_.rows, top, comparisons, c_.targetInterval);
             int open = 0;
-            for (const Comparison& cmp : comparisons) open += need.count(cmp.variant) || need.count(cmp.against) ? 1 : 0;
+            for (const VariantPair& cmp : comparisons) open += need.count(cmp.variant) || need.count(cmp.against) ? 1 : 0;
             settledCount = static_cast<int>(comparisons.size()) - open;
             bool atMost = false;
             for (std::size_t ei = 0; ei < variants_.size(); ++ei)
