@@ -68,13 +68,99 @@ void inBlocks(const void* data, std::size_t n, Fn&& fn) {
 
 std::string hex(std::uint64_t v) { return fmt::format("{:016x}", v); }
 
+/// --splitting ears's learning (render/render_state.h) as sections: the cells that have factors and the
+/// cells that have sums, each cell's number then its values. Empty when the render does not learn.
+struct EarsSections {
+    std::vector<std::uint32_t> factorCells;
+    std::vector<float> factorRatios;  ///< two a cell: sqrt(v / C_x), sqrt(M / C_x)
+    std::vector<std::uint32_t> sumCells;
+    std::vector<ears::CellSums> sums;
+};
+static_assert(sizeof(ears::CellSums) == 48, "CellSums is six packed 64-bit words");
+
+EarsSections packEars(const std::optional<ears::Learning>& learning) {
+    EarsSections e;
+    if (!learning) return e;
+    const ears::Factors& f = learning->factors;
+    for (std::size_t c = 0; c < f.momentRatio.size(); ++c)
+        if (f.momentRatio[c] >= 0) {
+            e.factorCells.push_back(static_cast<std::uint32_t>(c));
+            e.factorRatios.insert(e.factorRatios.end(), {f.varianceRatio[c], f.momentRatio[c]});
+        }
+    for (std::size_t c = 0; c < learning->sums.size(); ++c)
+        if (!learning->sums[c].empty()) {
+            e.sumCells.push_back(static_cast<std::uint32_t>(c));
+            e.sums.push_back(learning->sums[c]);
+        }
+    return e;
+}
+
 /// The sections after the header, in file order: pointer and byte count.
-template <class State, class Fn>
-void forEachSection(State& s, Fn&& fn) {
+template <class State, class Ears, class Fn>
+void forEachSection(State& s, Ears& e, Fn&& fn) {
     fn(s.tileSamples.data(), s.tileSamples.size() * sizeof(std::uint32_t));
     fn(s.sum.data(), s.sum.size() * sizeof(Color));
     fn(s.sumSq.data(), s.sumSq.size() * sizeof(Color));
     fn(s.sumLuminanceSq.data(), s.sumLuminanceSq.size() * sizeof(double));
+    fn(e.factorCells.data(), e.factorCells.size() * sizeof(std::uint32_t));
+    fn(e.factorRatios.data(), e.factorRatios.size() * sizeof(float));
+    fn(e.sumCells.data(), e.sumCells.size() * sizeof(std::uint32_t));
+    fn(e.sums.data(), e.sums.size() * sizeof(ears::CellSums));
+}
+
+nlohmann::json earsHeader(const ears::Learning& l, const EarsSections& e) {
+    return {{"epoch", l.epoch},
+            {"lo", {l.grid.lo().x, l.grid.lo().y, l.grid.lo().z}},
+            {"hi", {l.grid.hi().x, l.grid.hi().y, l.grid.hi().z}},
+            {"scale", l.factors.scale},
+            {"has_factors", !l.factors.empty()},
+            {"rays_at_start", l.raysAtStart},
+            {"samples_at_start", l.samplesAtStart},
+            {"factor_cells", e.factorCells.size()},
+            {"sum_cells", e.sumCells.size()}};
+}
+
+/// The learning of a checkpoint's "ears" header, its sections sized (read into them next).
+ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
+    const auto vec = [&](const char* key) {
+        const auto a = j.at(key).get<std::vector<double>>();
+        if (a.size() != 3) throw std::invalid_argument(fmt::format("ears {}: 3 numbers expected", key));
+        return Vec3(a[0], a[1], a[2]);
+    };
+    ears::Learning l(ears::Grid::fromBox(vec("lo"), vec("hi")));
+    l.epoch = j.at("epoch").get<int>();
+    l.raysAtStart = j.at("rays_at_start").get<std::uint64_t>();
+    l.samplesAtStart = j.at("samples_at_start").get<std::uint64_t>();
+    const auto factorCells = j.at("factor_cells").get<std::size_t>(), sumCells = j.at("sum_cells").get<std::size_t>();
+    if (l.epoch < 0 || l.epoch > 32 || factorCells > ears::Grid::cellCount() || sumCells > ears::Grid::cellCount())
+        throw std::invalid_argument("ears: epoch or cell counts out of range");
+    if (j.at("has_factors").get<bool>()) {
+        l.factors.scale = j.at("scale").get<double>();
+        l.factors.varianceRatio.assign(ears::Grid::cellCount(), -1.0f);
+        l.factors.momentRatio.assign(ears::Grid::cellCount(), -1.0f);
+    }
+    e.factorCells.resize(factorCells);
+    e.factorRatios.resize(2 * factorCells);
+    e.sumCells.resize(sumCells);
+    e.sums.resize(sumCells);
+    return l;
+}
+
+/// The sections read into the learning; false when a cell number is out of range or factors come without
+/// a table for them.
+bool unpackEars(const EarsSections& e, ears::Learning& l) {
+    const std::size_t cells = ears::Grid::cellCount();
+    if (!e.factorCells.empty() && l.factors.empty()) return false;
+    for (std::size_t i = 0; i < e.factorCells.size(); ++i) {
+        if (e.factorCells[i] >= cells) return false;
+        l.factors.varianceRatio[e.factorCells[i]] = e.factorRatios[2 * i];
+        l.factors.momentRatio[e.factorCells[i]] = e.factorRatios[2 * i + 1];
+    }
+    for (std::size_t i = 0; i < e.sumCells.size(); ++i) {
+        if (e.sumCells[i] >= cells) return false;
+        l.sums[e.sumCells[i]] = e.sums[i];
+    }
+    return true;
 }
 
 nlohmann::json headerOf(const RenderIdentity& id, const RenderState& s) {
@@ -125,10 +211,13 @@ void writeCheckpoint(const std::string& path, const RenderIdentity& identity, co
                 h.add(block, size);
             });
         };
-        const std::string header = headerOf(identity, state).dump() + "\n";
+        const EarsSections ears = packEars(state.ears);
+        nlohmann::json head = headerOf(identity, state);
+        if (state.ears) head["ears"] = earsHeader(*state.ears, ears);
+        const std::string header = head.dump() + "\n";
         put(kMagic, sizeof kMagic - 1);
         put(header.data(), header.size());
-        forEachSection(state, put);
+        forEachSection(state, ears, put);
         const std::uint64_t checksum = h.value();
         out.write(reinterpret_cast<const char*>(&checksum), sizeof checksum);
         out.close();
@@ -152,6 +241,7 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     line += "\n";
     h.add(line.data(), line.size());
     nlohmann::json header;
+    EarsSections ears;
     try {
         header = nlohmann::json::parse(line);
         identity = {header.at("scene").get<std::string>(), header.at("scene_hash").get<std::string>(), header.at("settings")};
@@ -168,17 +258,20 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
         // Written since the study measured cost by CPU time; an older checkpoint has neither.
         state.paths = header.value("paths", state.samples);
         state.cpuSeconds = header.value("cpu_seconds", 0.0);
+        if (header.contains("ears")) state.ears = earsFromHeader(header.at("ears"), ears);
     } catch (const nlohmann::json::exception& e) {
+        throw damaged(fmt::format("its header: {}", e.what()));
+    } catch (const std::invalid_argument& e) {
         throw damaged(fmt::format("its header: {}", e.what()));
     }
     std::uint64_t expected = 0;
-    forEachSection(state, [&](void*, std::size_t n) { expected += n; });
+    forEachSection(state, ears, [&](void*, std::size_t n) { expected += n; });
     const auto start = static_cast<std::uint64_t>(in.tellg());
     std::error_code ec;
     const std::uint64_t size = std::filesystem::file_size(path, ec);
     if (ec || size != start + expected + sizeof(std::uint64_t))
         throw damaged(fmt::format("{} bytes where its header needs {}: truncated or overwritten", size, start + expected + 8));
-    forEachSection(state, [&](void* data, std::size_t n) {
+    forEachSection(state, ears, [&](void* data, std::size_t n) {
         inBlocks(data, n, [&](const char* block, std::size_t size) {
             in.read(const_cast<char*>(block), static_cast<std::streamsize>(size));
             h.add(block, size);
@@ -189,6 +282,7 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     if (!in || checksum != h.value()) throw damaged("its checksum does not match its contents");
     for (std::uint32_t n : state.tileSamples)
         if (n > state.sppBound) throw damaged("a tile has more samples than the render's spp");
+    if (state.ears && !unpackEars(ears, *state.ears)) throw damaged("its learned splitting names a cell out of range");
 }
 
 void requireSameRender(const std::string& path, const RenderIdentity& saved, const RenderIdentity& now) {

@@ -35,11 +35,13 @@ double powerHeuristic(double a, double b) {
 
 }  // namespace
 
-PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings)
+PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings,
+                       const ears::Learning* learning)
     : scene_(scene),
       accel_(accel),
       estimator_(estimator),
       settings_(settings),
+      learning_(settings.splitting == SplittingMode::Ears ? learning : nullptr),
       areas_(triangleAreas(scene, geometricNormals_)),
       emitters_(scene, areas_, geometricNormals_, settings.nextEvent && estimator.combinesWithLightSampling()),
       triangleSampling_(emitters_.samplesTriangles()),
@@ -136,17 +138,28 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const ShadingContext sc{wo, &mat, depth, depth == 0};
     SampleStream& samples = pc.samples;
     const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
+    // --splitting ears decides the vertex's continuations before light sampling, whose MIS weight needs q.
+    const double q = learning_ ? continuationFactor(p, throughput, depth) : 0.0;
     if (lightSampling_) {
         samples.setDimension(vertexDim + SampleDimensions::kLight);
-        L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats, shadowed);
+        const double misScale = q > 0 ? q : depth == 0 ? settings_.firstHitSplit : 1;
+        L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats, shadowed, misScale);
     }
+    if (q > 0) return L + splitContinuations(sc, frame, ng, p, shadowed, q, depth, path, throughput, pc);
+    return L + continuePath(sc, frame, ng, p, shadowed, depth, path, throughput, pc);
+}
 
+// The estimator's directions at a vertex (one call; k at the first hit with --split), each continued
+// past Russian roulette: one direction continues this path, a set's directions are traced as a bundle.
+Color PathTracer::continuePath(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, int depth,
+                               std::uint64_t path, const Color& throughput, PathContext& pc) const {
+    SampleStream& samples = pc.samples;
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
     if (depth == 0) {
         firstHitDirections(sc, samples, dirs);
     } else {
-        samples.setDimension(vertexDim + SampleDimensions::kEstimator);
+        samples.setDimension(SampleDimensions::vertex(depth, path) + SampleDimensions::kEstimator);
         estimator_.sample(sc, samples, dirs);
     }
     const Vec3 origin = p + ng * epsilon_;
@@ -177,12 +190,12 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
             if (!(survive > 0) || samples.get1D() >= survive) continue;
             next /= survive;
         }
-        if (!branching) return L + weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
+        if (!branching) return weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
         bundle->dirs.push_back(wi);
         bundle->rays.push_back({weight, next, s.misPdf, survive, nextPath});
     }
-    if (!bundle || bundle->rays.empty()) return L;
-    return L + traceBundle(origin, *bundle, depth, pc);
+    if (!bundle || bundle->rays.empty()) return Color(0.0);
+    return traceBundle(origin, *bundle, depth, pc);
 }
 
 // A set's surviving rays share their origin: one closest-hit query for all of them (16-wide packets),
@@ -210,7 +223,7 @@ Color PathTracer::traceBundle(const Vec3& origin, RayBundle& bundle, int depth, 
 // --first-bounce-stream), through a JointPairView for --joint-first-bounce, and k calls on the camera
 // sample's k sub-samples for --split k (each direction's weight / k, its set density x k).
 void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const {
-    const std::uint64_t dim = SampleDimensions::kFirstHitEstimator + settings_.firstBounceStream * SampleDimensions::kFirstHitStreamStride;
+    const std::uint64_t dim = SampleDimensions::firstHitEstimator(settings_.firstBounceStream, 0);
     samples.setDimension(dim);
     if (settings_.jointFirstBounce && settings_.firstHitSplit <= 1) {
         const JointPairView joint(samples.sampler(), dim, SampleDimensions::kPixel);
@@ -235,16 +248,61 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
     }
 }
 
-double PathTracer::estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const {
-    const double p = estimator_.misPdf(sc, wi);
-    return sc.depth == 0 && settings_.firstHitSplit > 1 ? p * settings_.firstHitSplit : p;
+double PathTracer::continuationFactor(const Vec3& p, const Color& throughput, int depth) const {
+    const ears::Factors& f = learning_->factors;
+    const long cell = f.empty() ? -1 : f.cellAt(learning_->grid, p);
+    double q = 1;
+    if (cell >= 0) {
+        const auto c = static_cast<std::size_t>(cell);
+        q = ears::splittingFactor(luminance(throughput), f.varianceRatio[c], f.momentRatio[c], f.scale);
+    } else if (depth + 1 >= settings_.rrDepth) {
+        q = std::clamp(maxComponent(throughput), ears::kMinFactor, 0.95);
+        if (std::isnan(q)) q = ears::kMinFactor;
+    }
+    return q;
+}
+
+Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, double q,
+                                     int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const {
+    SampleStream& samples = pc.samples;
+    samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
+    const double whole = std::floor(q);
+    const auto n = static_cast<std::uint32_t>(whole) + (samples.get1D() < q - whole ? 1u : 0u);  // E[n] = q
+    const Vec3 origin = p + ng * epsilon_;
+    DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
+    Color L(0.0);
+    std::uint64_t traced = 0;
+    for (std::uint32_t j = 0; j < n; ++j) {
+        const std::uint64_t own = j == 0 ? path : SampleDimensions::splitPath(path, depth, j);
+        dirs.clear();
+        // At the first hit continuation j reads block j of the first-hit estimator's dimensions (block 0:
+        // the unsplit render's), so that each is stratified over the pixel's camera samples as one is.
+        samples.setDimension(depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream, j)
+                                        : SampleDimensions::vertex(depth, own) + SampleDimensions::kEstimator);
+        estimator_.sample(sc, samples, dirs);
+        const std::uint64_t raysBefore = pc.stats.rays;
+        Color value(0.0);
+        for (std::size_t k = 0; k < dirs.size(); ++k) {
+            const DirectionSample& s = dirs[k];
+            const Vec3 wi = frame.toWorld(s.wi);
+            if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
+            const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
+            const std::uint64_t nextPath = dirs.size() > 1 ? k + 1 : own;  // a set's directions: paths of their own
+            value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / q, pc);
+            ++traced;
+        }
+        pc.scratch.splitRecords.push_back({p, luminance(value), pc.stats.rays - raysBefore});
+        L += value / q;
+    }
+    if (traced > 1) pc.stats.extraPaths += traced - 1;
+    return L;
 }
 
 // Next-event estimation, the same for every emitter: one chosen in proportion to its power, a direction
 // towards it, the shadow ray, and f cos / p weighted against the estimator by the power heuristic (a
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
 Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
-                              TraceStats& stats, bool shadowed) const {
+                              TraceStats& stats, bool shadowed, double misScale) const {
     double pick = 0, uRemapped = 0;
     const Emitter& emitter = emitters_.pick(u.u, pick, uRemapped);
     EmitterSample s;
@@ -259,7 +317,7 @@ Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame,
                                       : accel_.occluded(origin, s.target - origin, 0.0, 1.0 - 1e-5);
     if (blocked) return Color(0.0);
     if (emitter.isDelta()) return f * s.radiance * (wiLocal.z / s.pdf);
-    const double w = powerHeuristic(s.pdf, estimatorMisPdf(sc, wiLocal));
+    const double w = powerHeuristic(s.pdf, estimator_.misPdf(sc, wiLocal) * misScale);
     return f * (s.radianceLater ? emitter.backgroundRadiance(s.wi) : s.radiance) * (wiLocal.z * w / s.pdf);
 }
 

@@ -10,6 +10,7 @@
 #include "math/frame.h"
 #include "scene/scene.h"
 #include "scene/surface.h"
+#include "splitting/learning.h"
 #include "util/cache_line.h"
 
 #include <cstdint>
@@ -37,6 +38,9 @@ struct TraceSettings {
     /// Where a normal or bump map bent the shading normal, multiply the BRDF by the shadowing term of
     /// Chiang, Li and Burley 2019 (scene/shading_normal.h bumpShadowing), as Blender Cycles does.
     bool bumpShadowing = false;
+    /// How many continuations a vertex gets: one (Russian roulette by throughput, firstHitSplit at the
+    /// first hit) or EARS's learned factor at every vertex (splitting/ears.h; replaces both).
+    SplittingMode splitting = SplittingMode::None;
 };
 
 struct TraceStats {
@@ -59,9 +63,23 @@ struct SampleDimensions {
     static constexpr std::uint64_t kFirstHitEstimator = 1ull << 40;  ///< the first hit's estimator: a block of any size
     static constexpr std::uint64_t kFirstHitStreamStride =
         1ull << 32;  ///< TraceSettings::firstBounceStream s reads from kFirstHitEstimator + s x this
+    static constexpr std::uint64_t kFirstHitSplitStride = 1ull << 24;  ///< a first-hit continuation's block (< the stream stride / 8)
+    static constexpr std::uint64_t kFirstSplitPath = 1u << 20;  ///< --splitting ears's continuation paths: from here on
+    static constexpr std::uint64_t kPathCount = 1u << 26;       ///< paths x kPathStride stay below kFirstHitEstimator
     /// First dimension of the vertex at `depth` of path `path`.
     static constexpr std::uint64_t vertex(int depth, std::uint64_t path) {
         return kFirstBounce + path * kPathStride + static_cast<std::uint64_t>(depth) * kPerBounce;
+    }
+    /// The first hit's estimator: stream s (TraceSettings::firstBounceStream), continuation j of a vertex
+    /// split by --splitting ears (0 for every other render).
+    static constexpr std::uint64_t firstHitEstimator(std::uint32_t stream, std::uint32_t j) {
+        return kFirstHitEstimator + stream * kFirstHitStreamStride + static_cast<std::uint64_t>(j) * kFirstHitSplitStride;
+    }
+    /// --splitting ears: the path that continuation j >= 1 of the vertex at `depth` of `path` starts (its
+    /// own dimensions from that vertex on; continuation 0 continues `path`), hashed into
+    /// [kFirstSplitPath, kPathCount), clear of the paths 1..K of a set's branches.
+    static constexpr std::uint64_t splitPath(std::uint64_t path, int depth, std::uint32_t j) {
+        return kFirstSplitPath + mixSeed(mixSeed(path, static_cast<std::uint64_t>(depth)), j) % (kPathCount - kFirstSplitPath);
     }
 };
 
@@ -87,11 +105,15 @@ struct PathScratch {
     CacheLineVector<DirectionList> directions;  ///< one buffer per depth (each alone on its cache lines: util/cache_line.h)
     CacheLineVector<RayBundle> bundles;         ///< one per depth
     CacheLineVector<PhongMaterial> materials;   ///< one per depth: a textured material's parameters at its vertex
+    std::vector<ears::Record> splitRecords;     ///< --splitting ears: the continuations traced since the caller last took them
 };
 
 class PathTracer {
 public:
-    PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings);
+    /// `learning`: with settings.splitting Ears, the factors of the epoch being rendered (their grid and
+    /// factors are read, never written; continuations are reported in PathScratch::splitRecords).
+    PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings,
+               const ears::Learning* learning = nullptr);
 
     /// Radiance arriving at the camera along o + t d, every decision drawn from `samples` (one camera
     /// sample's stream) at the dimensions of SampleDimensions.
@@ -119,17 +141,30 @@ private:
     Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
                        const Vec3& wo, bool& bent) const;
     double emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const;
-    /// The estimator's misPdf at this vertex, times the first hit's split count k at depth 0 (k calls:
-    /// the density of the whole set of directions, as MIS needs it).
-    double estimatorMisPdf(const ShadingContext& sc, const Vec3& wi) const;
+    /// The continuations of a vertex without --splitting ears: the estimator's directions (k calls at the
+    /// first hit with --split k), each past Russian roulette by throughput.
+    Color continuePath(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, int depth,
+                       std::uint64_t path, const Color& throughput, PathContext& pc) const;
+    /// --splitting ears: the factor q of a vertex at p with this throughput (splitting/ears.h; where no
+    /// cell has an estimate yet, 1 before the roulette depth and the throughput's largest component, at
+    /// most 0.95, from it on).
+    double continuationFactor(const Vec3& p, const Color& throughput, int depth) const;
+    /// --splitting ears: floor(q + u) continuations, weighted 1/q, their directions' MIS densities times
+    /// q; each is reported with its value and rays in scratch.splitRecords. Continuation j >= 1 starts a
+    /// path of its own (SampleDimensions::splitPath), and at the first hit reads the estimator from a
+    /// block of its own (SampleDimensions::firstHitEstimator): no two calls in a pixel share a number.
+    Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, double q, int depth,
+                             std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
     void firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const;
     /// Next-event estimation: one emitter chosen in proportion to its power, one direction towards it
     /// (the same for every kind of emitter), its shadow ray, and the power heuristic against the
     /// estimator's density (none for a delta emitter, which no path can hit).
     /// `shadowed`: the BRDF times bumpShadowing (--bump-shadowing at a bent normal).
+    /// `misScale`: the expected number of estimator calls at this vertex (the first hit's split count
+    /// k, EARS's q, else 1): MIS weighs light sampling against the density of all of them together.
     Color directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
-                      bool shadowed) const;
+                      bool shadowed, double misScale) const;
     /// Radiance of a ray that left the scene along d: the background (MIS-weighted against its light
     /// sampling from the previous vertex when it is light-sampled).
     Color escaped(const Vec3& d, int depth, double prevMisPdf) const;
@@ -138,6 +173,7 @@ private:
     const Accel& accel_;
     const Estimator& estimator_;
     TraceSettings settings_;
+    const ears::Learning* learning_;
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
     std::vector<std::uint8_t> textured_;  ///< per material: whether it has any texture (one byte to test on the hot path)
     std::vector<double> areas_;

@@ -83,4 +83,21 @@ MeanError RenderState::regionError(const PixelRect& r) const {
     return {meanSum / c, std::sqrt(varSum) / c};
 }
 
+double RenderState::variancePerSample() const {
+    std::vector<double> v;
+    v.reserve(sum.size());
+    bool known = true;
+    forEachPixel(*this, [&](std::size_t p, std::uint32_t n) {
+        if (n < 2) return void(known = false);
+        const double s = luminance(sum[p]), mean = s / n;
+        v.push_back(std::max(0.0, (sumLuminanceSq[p] - s * mean) / (n - 1.0)));
+    });
+    if (!known || v.empty()) return 0;
+    const std::size_t kept = v.size() - v.size() / 1000;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(kept - 1), v.end());
+    double total = 0;
+    for (std::size_t i = 0; i < kept; ++i) total += v[i];
+    return total / static_cast<double>(kept);
+}
+
 }  // namespace symphong

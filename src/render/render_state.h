@@ -8,8 +8,10 @@
 
 #include "io/image.h"
 #include "math/vec3.h"
+#include "splitting/learning.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace symphong {
@@ -37,6 +39,8 @@ struct RenderState {
     std::uint64_t paths = 0;  ///< paths started (RenderStats::paths)
     double seconds = 0;       ///< render time so far, over every run that added to this state
     double cpuSeconds = 0;    ///< CPU time so far (RenderStats::cpuSeconds)
+    /// --splitting ears: what the render has learned (splitting/learning.h); a checkpoint carries it.
+    std::optional<ears::Learning> ears;
 
     RenderState() = default;
     RenderState(int width, int height, std::uint32_t sppBound);
@@ -54,6 +58,11 @@ struct RenderState {
     /// of luminance (pixels are independent). A pixel with fewer than 2 samples counts as unknown: the
     /// error is then infinite.
     MeanError regionError(const PixelRect& r) const;
+
+    /// The variance of one camera sample's luminance, per pixel, averaged over the image (EARS's V), the
+    /// largest 0.1% of the pixels' variances left out (a few fireflies would otherwise decide it). 0
+    /// while a pixel has fewer than 2 samples.
+    double variancePerSample() const;
 };
 
 }  // namespace symphong

@@ -69,14 +69,27 @@ void forEachTile(const RenderSettings& settings, Fn&& renderTile) {
 
 }  // namespace
 
-void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
+void renderSegment(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
                    std::uint32_t upTo, std::atomic<std::uint64_t>* progress) {
     const auto start = std::chrono::steady_clock::now();
     const double cpuStart = processCpuSeconds();
-    const PathTracer tracer(scene, accel, estimator, settings.trace);
+    const bool learns = settings.trace.splitting == SplittingMode::Ears;
+    if (learns && !state.ears) {
+        Vec3 lo, hi;
+        scene.bounds(lo, hi);
+        state.ears.emplace(ears::Grid(lo, hi));
+    }
+    const PathTracer tracer(scene, accel, estimator, settings.trace, learns ? &*state.ears : nullptr);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
-    std::mutex statsMutex;
+    std::mutex statsMutex, learnMutex;
+    // The continuations a tile traced, into the epoch's exact sums (the order of tiles does not matter).
+    const auto learn = [&](std::vector<ears::Record>& records) {
+        if (!learns || records.empty()) return;
+        std::lock_guard<std::mutex> lock(learnMutex);
+        for (const ears::Record& r : records) state.ears->add(r);
+        records.clear();
+    };
 
     const auto renderTile = [&](int tile) {
         if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) return;
@@ -106,9 +119,11 @@ void renderSamples(const Scene& scene, const Accel& accel, const Estimator& esti
                     sumYSq += luminance(L) * luminance(L);
                 }
                 state.sum[pixel] = sum, state.sumSq[pixel] = sumSq, state.sumLuminanceSq[pixel] = sumYSq;
+                if (scratch.splitRecords.size() >= (1u << 16)) learn(scratch.splitRecords);
             }
             if (progress) progress->fetch_add(static_cast<std::uint64_t>(x1 - x0) * (upTo - from), std::memory_order_relaxed);
         }
+        learn(scratch.splitRecords);
         state.tileSamples[static_cast<std::size_t>(tile)] = upTo;
         {
             std::lock_guard<std::mutex> lock(statsMutex);
@@ -123,6 +138,25 @@ void renderSamples(const Scene& scene, const Accel& accel, const Estimator& esti
     forEachTile(settings, renderTile);
     state.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     state.cpuSeconds += processCpuSeconds() - cpuStart;
+}
+
+bool endEpochIfDone(RenderState& state) {
+    if (!state.ears || state.samplesReached() < ears::epochEnd(ears::epochStart(state.ears->epoch))) return false;
+    state.ears->advance(state.variancePerSample(), state.rays, state.samples);
+    return true;
+}
+
+void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
+                   std::uint32_t upTo, std::atomic<std::uint64_t>* progress) {
+    if (settings.trace.splitting != SplittingMode::Ears || settings.tiles)
+        return renderSegment(scene, accel, estimator, settings, state, upTo, progress);
+    // Epoch by epoch: every tile finishes one before the factors of the next are learned.
+    upTo = std::min(upTo, state.sppBound);
+    for (std::uint32_t reached = state.samplesReached(); reached < upTo; reached = state.samplesReached()) {
+        renderSegment(scene, accel, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);
+        endEpochIfDone(state);
+        if (settings.cancel && settings.cancel->load()) return;
+    }
 }
 
 RenderResult resultOf(const RenderState& state, const std::string& sampler) {

@@ -87,8 +87,21 @@ void cameraRay(const Camera& cam, int width, int height, double px, double py, V
 /// the order of its index; adds the rays, samples and time to the state. A cancellation
 /// (settings.cancel) skips the tiles not yet begun: each tile is either taken to `upTo` or left as it was.
 /// settings.width and height must be the state's; settings.spp is not used (state.sppBound is).
+/// With --splitting ears it goes epoch by epoch (splitting/learning.h): every tile to the end of the
+/// epoch, then the next epoch's factors (endEpochIfDone), and so on up to `upTo`.
 void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
                    std::uint32_t upTo, std::atomic<std::uint64_t>* progress = nullptr);
+
+/// renderSamples within one epoch of --splitting ears (`upTo` at most the end of the epoch the state is
+/// in): the tiles' continuations are added to the epoch's sums in state.ears. What distrib/ runs on
+/// each rank between two exchanges of what was learned.
+void renderSegment(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
+                   std::uint32_t upTo, std::atomic<std::uint64_t>* progress = nullptr);
+
+/// --splitting ears: when every tile has finished the state's epoch, learns the next epoch's factors
+/// (from the epoch's sums, the rays and samples since it began and the image's variance per sample) and
+/// returns true.
+bool endEpochIfDone(RenderState& state);
 
 /// The image, variance and statistics of a state (the sampler's name recorded as given).
 RenderResult resultOf(const RenderState& state, const std::string& sampler);

@@ -114,6 +114,13 @@ const schema::Schema<RenderOptions>& renderSchema() {
                       "sub-samples of the pixel's pattern, each weighted 1/K)",
                       member(&RenderOptions::split))
                         .range(1, 64));
+        s.push_back(F("splitting", "--splitting",
+                      "continuations per path vertex: none (one, Russian roulette by throughput) or ears (efficiency-aware Russian "
+                      "roulette and splitting, Rath et al. 2022: factors learned per region of the scene from the render's own "
+                      "earlier samples, at every vertex; docs/estimators.md)",
+                      member(&RenderOptions::splitting))
+                        .namedFrom(splittingNames)
+                        .checkedBy(checkSplittingName));
         s.push_back(F("first_bounce_stream", "--first-bounce-stream",
                       "give the first hit's estimator other random numbers (stream S), every other decision of the path keeping its "
                       "own: renders that differ only in S measure the first bounce's share of the variance (docs/estimators.md)",
@@ -160,6 +167,11 @@ void checkRenderOptions(const RenderOptions& o) {
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
     requireImageMemory(o.width, o.height);
     if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
+    if (o.splitting == "ears" && o.split > 1)
+        throw InputError(fmt::format("--split {} and --splitting ears: ears decides the first hit's splitting itself; give one of them",
+                                     o.split));
+    if (o.splitting == "ears" && o.jointFirstBounce)
+        throw InputError("--joint-first-bounce and --splitting ears: a split first hit reads sub-samples, which have no joint pattern");
 }
 
 StopRules stopRules(const RenderOptions& o) {
@@ -196,6 +208,7 @@ RenderSettings renderSettings(const RenderOptions& o) {
     settings.trace.firstBounceStream = o.firstBounceStream;
     settings.trace.jointFirstBounce = o.jointFirstBounce;
     settings.trace.bumpShadowing = o.bumpShadowing;
+    settings.trace.splitting = splittingMode(o.splitting);
     return settings;
 }
 

@@ -34,6 +34,7 @@ struct RenderOptions {
     std::string varianceOutput;  ///< EXR of the per-pixel variance of the mean, for `symphong compare --variance`
     bool noNee = false;
     int split = 1;
+    std::string splitting = "none";
     std::uint32_t firstBounceStream = 0;
     bool jointFirstBounce = false;
     bool bumpShadowing = false;

@@ -17,7 +17,8 @@ const StudyVariant* yardstickFor(const std::vector<StudyVariant>& variants, cons
     const bool ownSampler = own && !own->traits.ownSampler.empty();
     const StudyVariant* found = nullptr;
     for (const StudyVariant& y : variants)
-        if (y.estimator == yard && y.split == split && y.mode == SymmetricMode::Branch && (y.sampler == v.sampler || ownSampler)) {
+        if (y.estimator == yard && y.split == split && y.mode == SymmetricMode::Branch && y.splitting == SplittingMode::None &&
+            (y.sampler == v.sampler || ownSampler)) {
             if (y.sampler == v.sampler) return &y;
             if (!found) found = &y;
         }

@@ -40,6 +40,27 @@ void addReferenceFields(schema::Schema<StudyOptions>& s) {
                     .checkedBy(checkSamplerName));
 }
 
+/// First-hit splitting and --splittings: which variants split, and how.
+void addSplitFields(schema::Schema<StudyOptions>& s) {
+    using F = schema::Field<StudyOptions>;
+    using schema::ref;
+    using O = StudyOptions;
+    s.push_back(F("splits", "--splits",
+                  "first-hit splitting: for each K > 1 also run every estimator of --split-estimators with K directions per "
+                  "camera sample from its first hit (a variant '+splitK'), comma-separated",
+                  ref<O>([](O & o) -> auto& { return o.config.splits; }))
+                    .range(1, 64)
+                    .noDefaultShown());
+    s.push_back(F("split_estimators", "--split-estimators", "the estimators that --splits applies to, comma-separated",
+                  schema::member(&O::splitEstimators))
+                    .listOfNames());
+    s.push_back(F("splittings", "--splittings",
+                  "none and/or ears, comma-separated: with ears, every estimator of --split-estimators also renders with "
+                  "render --splitting ears (a variant '+ears': Russian roulette and splitting learned from its own samples)",
+                  schema::member(&O::splittings))
+                    .listOfNames());
+}
+
 /// The variants' orbits, the repeats, the cost and the rule that adds repeats.
 void addRepeatFields(schema::Schema<StudyOptions>& s) {
     using F = schema::Field<StudyOptions>;
@@ -101,15 +122,7 @@ const schema::Schema<StudyOptions>& studySchema() {
                       schema::member(&O::modes))
                         .listOfNames());
         s.push_back(F("spp", "--spp", "samples per pixel, comma-separated", schema::member(&O::spps)).range(1, 1000000));
-        s.push_back(F("splits", "--splits",
-                      "first-hit splitting: for each K > 1 also run every estimator of --split-estimators with K directions per "
-                      "camera sample from its first hit (a variant '+splitK'), comma-separated",
-                      ref<O>([](O & o) -> auto& { return o.config.splits; }))
-                        .range(1, 64)
-                        .noDefaultShown());
-        s.push_back(F("split_estimators", "--split-estimators", "the estimators that --splits applies to, comma-separated",
-                      schema::member(&O::splitEstimators))
-                        .listOfNames());
+        addSplitFields(s);
         s.push_back(F("budget_pairs", "--budget-pairs",
                       "variance budget: pairs of renders per variant at the top spp that differ only in the first bounce's random "
                       "numbers; the report gives the first bounce's share of the pixel variance (0: none)",
@@ -240,6 +253,7 @@ StudyConfig toStudyConfig(const StudyOptions& o, bool validateNames) {
         }
     c.spps = o.spps;
     c.splitEstimators = nameList(o.splitEstimators, estimatorNames(), "--split-estimators", validateNames);
+    c.splittings = nameList(o.splittings, splittingNames(), "--splittings", true);
     c.plots = !o.noPlots;
     c.page = !o.noPage;
     return c;
@@ -255,6 +269,7 @@ StudyOptions studyOptionsOf(const StudyConfig& c) {
     o.modes = fmt::format("{}", fmt::join(modes, ","));
     o.spps = c.spps;
     o.splitEstimators = fmt::format("{}", fmt::join(c.splitEstimators, ","));
+    o.splittings = fmt::format("{}", fmt::join(c.splittings, ","));
     o.noPlots = !c.plots;
     o.noPage = !c.page;
     return o;

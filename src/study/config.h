@@ -20,6 +20,7 @@ struct StudyOptions {
     std::string modes = "branch";
     std::vector<std::uint32_t> spps = {1, 4, 16, 64};
     std::string splitEstimators = "phong,symmetric-mix";
+    std::string splittings = "none";
     bool noPlots = false;
     bool noPage = false;
 };

@@ -307,7 +307,8 @@ bool StudyRun::renderRepeat(std::uint32_t spp, std::size_t ei, int rep, const Es
     rs.spp = spp;
     rs.sampler = variant.sampler;
     rs.trace.firstHitSplit = variant.split;
-    rs.trace.jointFirstBounce = c_.jointFirstBounce;
+    rs.trace.splitting = variant.splitting;
+    rs.trace.jointFirstBounce = c_.jointFirstBounce && variant.splitting == SplittingMode::None;
     rs.seed = repeatSeed(c_.seed, spp, rep);
     const RenderResult r = rt_.render(scene_, *accel_, est, rs, &progress_.samples);
     progress_.finished(cost_[variant.label] * spp * c_.width * c_.height);
@@ -432,7 +433,8 @@ double StudyRun::budgetVariance(std::uint32_t spp, std::size_t ei, const Estimat
         rs.spp = spp;
         rs.sampler = variant.sampler;
         rs.trace.firstHitSplit = variant.split;
-        rs.trace.jointFirstBounce = c_.jointFirstBounce;
+        rs.trace.splitting = variant.splitting;
+        rs.trace.jointFirstBounce = c_.jointFirstBounce && variant.splitting == SplittingMode::None;
         rs.seed = mixSeed(mixSeed(mixSeed(c_.seed, ei + 1), 0xB0D6E7), static_cast<std::uint64_t>(b));
         Image pair[2];
         for (std::uint32_t stream = 1; stream <= 2 && !outcome_.cancelled; ++stream) {

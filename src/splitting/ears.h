@@ -1,0 +1,125 @@
+// splitting/ — efficiency-aware Russian roulette and splitting (EARS: Rath, Grittmann, Herholz, Weier and
+// Slusallek, ACM TOG 41(4), 2022): how many continuations a path vertex gets, learned from the render's
+// own earlier samples. Owns the formula of the factor, the learned structure (a grid over the scene's
+// bounds at several resolutions), its statistics, kept exactly in integers so that the learned factors do
+// not depend on the order in which threads or ranks add to them, the schedule of learning (epochs of
+// doubling sample counts, splitting/learning.h) and the factors' fixed point on a model (for tests). It
+// knows nothing of rays: the path tracer (render/) asks it for a factor at a point and tells it each
+// continuation's value and cost. docs/estimators.md "Efficiency-aware splitting" derives the formula.
+#pragma once
+
+#include "math/vec3.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace symphong {
+
+/// How a path vertex decides how many continuations it gets.
+enum class SplittingMode {
+    None,  ///< one continuation, Russian roulette by throughput (render/path_tracer.h), --split at the first hit
+    Ears,  ///< the learned factor of this file at every vertex
+};
+
+/// "none", "ears": the names `--splitting` takes, in the order --help lists them.
+const std::vector<std::string>& splittingNames();
+/// The mode of a name; throws std::invalid_argument "unknown splitting 'x' (valid: none, ears)".
+SplittingMode splittingMode(const std::string& name);
+void checkSplittingName(const std::string& name);
+
+namespace ears {
+
+inline constexpr double kMinFactor = 0.05;       ///< the least factor: a continuation survives at least 1 in 20
+inline constexpr double kMaxFactor = 8;          ///< the most continuations a vertex gets
+inline constexpr std::uint64_t kMinRecords = 32;  ///< a cell's estimate is used from this many continuations on
+
+/// The efficiency-optimal factor of a vertex (EARS section 4, for the image's MSE):
+///   q = T sqrt(S / C_x) sqrt(C / V),
+/// T the luminance of the path's throughput up to the vertex (its weight in the pixel's estimate, the
+/// 1/q of earlier vertices included), C_x the expected cost of one continuation from the vertex's region,
+/// V the variance and C the cost of one camera sample (whole image), and S what one continuation adds to
+/// V per unit of 1/q: its variance when splitting (q > 1: n continuations of variance v give v / n), its
+/// second moment M under Russian roulette (q < 1: a survival probability q gives M / q - mean^2). So
+/// q_split = T sqrt(v / C_x) sqrt(C/V) when that exceeds 1, else q_rr = T sqrt(M / C_x) sqrt(C/V) when that
+/// is below 1, else 1 (the two disagree). `varianceRatio` is sqrt(v / C_x), `momentRatio` sqrt(M / C_x),
+/// `scale` sqrt(C / V). Clamped to [kMinFactor, kMaxFactor]; NaN in, kMinFactor out.
+double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale);
+
+/// Exact sums of one region's continuations: their number, rays, values and squared values in units of
+/// 2^-40 (unsigned 128-bit integers; values are clamped to [0, 10^8]), so that adding the same records in
+/// any order gives the same sums, bit for bit.
+struct CellSums {
+    std::uint64_t count = 0;
+    std::uint64_t cost = 0;
+    std::uint64_t values[2] = {0, 0};   ///< the 128-bit sum of values, low word first
+    std::uint64_t squares[2] = {0, 0};  ///< the 128-bit sum of squared values, low word first
+
+    void add(double value, std::uint64_t rays);
+    void add(const CellSums& other);
+    bool empty() const { return count == 0; }
+    double mean() const;          ///< mean value (0 when empty)
+    double secondMoment() const;  ///< mean of value^2 (0 when empty)
+    double meanCost() const;      ///< mean rays (0 when empty)
+};
+
+/// The regions: a grid over a box at resolutions 8, 16, 32 and 64 cells a side; a point lies in one cell
+/// of each level. A vertex uses the finest of its cells whose estimate rests on kMinRecords continuations.
+class Grid {
+public:
+    static constexpr int kLevels = 4;
+    static constexpr std::array<int, kLevels> kResolution = {8, 16, 32, 64};
+
+    Grid() = default;
+    /// The box [lo, hi], widened by 0.1% of its diagonal on every side (points on its faces lie inside).
+    Grid(const Vec3& lo, const Vec3& hi);
+    /// The grid over exactly [lo, hi] (a checkpoint's grid: lo() and hi() of the one it was made with).
+    static Grid fromBox(const Vec3& lo, const Vec3& hi);
+
+    /// Cells of every level together (299,520).
+    static std::size_t cellCount();
+    /// The index of `p`'s cell at `level` (points outside the box: its nearest cell).
+    std::size_t cell(const Vec3& p, int level) const;
+    const Vec3& lo() const { return lo_; }
+    const Vec3& hi() const { return hi_; }
+
+private:
+    Vec3 lo_, hi_, inverseSize_;
+};
+
+/// What a render learned for an epoch: per cell sqrt(v / C_x) and sqrt(M / C_x) (negative: too few
+/// continuations to say), and the image's sqrt(C / V).
+struct Factors {
+    std::vector<float> varianceRatio, momentRatio;
+    double scale = 0;
+
+    bool empty() const { return momentRatio.empty(); }
+    /// The cell whose ratios a vertex at p uses: its finest cell with an estimate; -1 when none has one.
+    long cellAt(const Grid& grid, const Vec3& p) const;
+};
+
+/// The factors learned from one epoch's sums (one CellSums per cell of the grid), the cost C of a camera
+/// sample and the variance V of its estimate (per pixel, averaged over the image). No factors at all when
+/// V is not positive.
+Factors learnFactors(const std::vector<CellSums>& sums, double costPerSample, double variancePerSample);
+
+/// A model of an image for the fixed point: per camera sample, `visits` vertices of this region with
+/// throughput `throughput`, whose continuations have variance `variance` and cost `cost` (and mean 0, so
+/// that the variance is the second moment too and one formula holds for splitting and roulette).
+struct ModelRegion {
+    double visits = 0, throughput = 0, variance = 0, cost = 0;
+};
+
+/// The model's variance and cost of a camera sample under factors q: V = V0 + sum visits T^2 v / q,
+/// C = C0 + sum visits q C_x.
+void modelVarianceAndCost(double baseVariance, double baseCost, const std::vector<ModelRegion>& regions, const std::vector<double>& q,
+                          double& variance, double& cost);
+
+/// EARS's fixed point on the model: q = 1 everywhere, then `iterations` times each region's factor from
+/// splittingFactor with the V and C that the previous factors give (what a render does from epoch to
+/// epoch). The result is the minimum of V x C, sqrt(C0/V0) T sqrt(M/C_x) when no clamp applies.
+std::vector<double> modelFixedPoint(double baseVariance, double baseCost, const std::vector<ModelRegion>& regions, int iterations);
+
+}  // namespace ears
+}  // namespace symphong

@@ -1,0 +1,52 @@
+// splitting/learning.h — when and from what a render learns its EARS factors. The samples of a pixel
+// come in epochs of doubling size: samples [0, 2) are epoch 0, rendered without learned factors, and
+// samples [2^e, 2^(e+1)) are epoch e, rendered with the factors learned from epoch e - 1's continuations
+// (and the image's variance and cost so far). So the factors a sample uses depend only on samples of
+// earlier epochs, never on the sample itself (the estimate stays unbiased), and not on how the render
+// was cut into passes, threads, ranks or runs: every tile finishes an epoch before any tile starts the
+// next, and the sums are exact integers (splitting/ears.h CellSums), the same in any order of adding.
+#pragma once
+
+#include "splitting/ears.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace symphong::ears {
+
+/// One continuation as the path tracer reports it: where its vertex was, what it brought back (the
+/// luminance of its estimate, before the vertex's 1/q) and the rays it took.
+struct Record {
+    Vec3 position;
+    double value = 0;
+    std::uint64_t rays = 0;
+};
+
+/// The epoch of sample index i (0 for i < 2, else floor(log2 i)).
+int epochOf(std::uint32_t sample);
+/// The first sample index of the epoch after the one that sample `reached` is in.
+std::uint32_t epochEnd(std::uint32_t reached);
+/// The first sample index of epoch e (0, then 2^e).
+std::uint32_t epochStart(int epoch);
+
+struct Learning {
+    Grid grid;
+    int epoch = 0;                   ///< the epoch being rendered
+    Factors factors;                 ///< its factors (none in epoch 0, or when the image had no variance)
+    std::vector<CellSums> sums;      ///< its continuations so far, per cell of every level
+    std::uint64_t raysAtStart = 0;   ///< the render's rays when the epoch began
+    std::uint64_t samplesAtStart = 0;  ///< and its camera samples
+
+    Learning() = default;
+    explicit Learning(const Grid& g) : grid(g), sums(Grid::cellCount()) {}
+
+    /// Adds a continuation to its cell at every level.
+    void add(const Record& r);
+    /// Adds another process's or thread's sums of the same epoch.
+    void add(const std::vector<CellSums>& other);
+    /// Ends the epoch: the next one's factors from this one's sums, its cost per camera sample (from the
+    /// render's rays and samples now) and the image's variance per camera sample.
+    void advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples);
+};
+
+}  // namespace symphong::ears

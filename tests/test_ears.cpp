@@ -1,0 +1,340 @@
+// Efficiency-aware Russian roulette and splitting (splitting/, --splitting ears): the factor's rules,
+// its fixed point against the closed-form optimum and a brute-force minimum of variance x cost, exact
+// sums in any order, the epoch schedule, the split directions against the estimator's density
+// (chi-square), unbiasedness (the closed furnace, and the mean image against phong on every study
+// scene, 4 sigma), determinism across threads and passes, a checkpoint's round trip, and bad values.
+#include "render/checkpoint.h"
+#include "sampling/warp.h"
+#include "sample_util.h"
+#include "stats.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+using namespace symphong;
+
+namespace {
+
+bool sameBits(const Image& a, const Image& b) {
+    return a.pixels.size() == b.pixels.size() && std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color)) == 0;
+}
+
+RenderSettings earsSettings(int width, int height, std::uint32_t spp, std::uint64_t seed, const std::string& sampler = "sobol") {
+    RenderSettings rs;
+    rs.width = width, rs.height = height, rs.spp = spp, rs.seed = seed, rs.sampler = sampler;
+    rs.trace.splitting = SplittingMode::Ears;
+    return rs;
+}
+
+}  // namespace
+
+TEST(EarsFactor, SplitsByVarianceRoulettesBySecondMomentAndClamps) {
+    // q_split = T sqrt(v/C_x) sqrt(C/V) = 2 x 1 x 1 > 1: split by it.
+    EXPECT_DOUBLE_EQ(ears::splittingFactor(2, 1, 3, 1), 2);
+    // q_split = 0.25, q_rr = 0.75: roulette by the second moment.
+    EXPECT_DOUBLE_EQ(ears::splittingFactor(0.5, 0.5, 1.5, 1), 0.75);
+    // q_split = 0.5 <= 1 <= q_rr = 2: the two disagree, one continuation.
+    EXPECT_DOUBLE_EQ(ears::splittingFactor(1, 0.5, 2, 1), 1);
+    EXPECT_DOUBLE_EQ(ears::splittingFactor(100, 1, 1, 1), ears::kMaxFactor);
+    EXPECT_DOUBLE_EQ(ears::splittingFactor(1e-4, 1, 1, 1), ears::kMinFactor);
+    EXPECT_DOUBLE_EQ(ears::splittingFactor(std::nan(""), 1, 1, 1), ears::kMinFactor);
+    EXPECT_DOUBLE_EQ(ears::splittingFactor(1, 0, 0, 1), ears::kMinFactor);  // a region that never brings light back
+}
+
+// Two regions with known variance and cost: the fixed point of q <- T sqrt(v/C_x) sqrt(C(q)/V(q)), iterated
+// as a render does from epoch to epoch, equals the analytic optimum sqrt(C0/V0) T sqrt(v/C_x) (from
+// d(V C)/dq = 0 for every region: sum over regions cancels and s^2 V0 = C0), and a brute-force search of
+// V x C over a fine grid of (q1, q2) finds no lower point.
+TEST(EarsFixedPoint, EqualsTheAnalyticOptimumAndTheBruteForceMinimum) {
+    const double v0 = 1, c0 = 3;
+    const std::vector<ears::ModelRegion> regions = {{1, 1, 4, 2}, {2, 0.3, 0.5, 5}};
+    const std::vector<double> q = ears::modelFixedPoint(v0, c0, regions, 60);
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+        const double exact = std::sqrt(c0 / v0) * regions[r].throughput * std::sqrt(regions[r].variance / regions[r].cost);
+        EXPECT_NEAR(q[r], exact, 1e-9 * exact) << "region " << r;
+    }
+    EXPECT_GT(q[0], 1);  // one region splits, the other is rouletted: both branches of the rule are used
+    EXPECT_LT(q[1], 1);
+    double v = 0, c = 0;
+    ears::modelVarianceAndCost(v0, c0, regions, q, v, c);
+    const double atFixedPoint = v * c;
+    double best = std::numeric_limits<double>::infinity(), bestQ1 = 0, bestQ2 = 0;
+    const int steps = 1500;
+    const auto grid = [&](int i) { return ears::kMinFactor * std::pow(ears::kMaxFactor / ears::kMinFactor, i / double(steps)); };
+    for (int i = 0; i <= steps; ++i)
+        for (int j = 0; j <= steps; ++j) {
+            ears::modelVarianceAndCost(v0, c0, regions, {grid(i), grid(j)}, v, c);
+            if (v * c < best) best = v * c, bestQ1 = grid(i), bestQ2 = grid(j);
+        }
+    EXPECT_LE(atFixedPoint, best * (1 + 1e-12));
+    const double step = std::pow(ears::kMaxFactor / ears::kMinFactor, 1.0 / steps);  // one grid step, as a factor
+    EXPECT_NEAR(std::log(bestQ1 / q[0]), 0, std::log(step));
+    EXPECT_NEAR(std::log(bestQ2 / q[1]), 0, std::log(step));
+}
+
+TEST(EarsSums, AreTheSameBitForBitInAnyOrderAndMatchTheMoments) {
+    std::mt19937_64 rng(7);
+    std::vector<std::pair<double, std::uint64_t>> records;
+    long double sum = 0, sumSq = 0, cost = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const double v = std::pow(10.0, std::uniform_real_distribution<double>(-6, 4)(rng));
+        const std::uint64_t rays = 1 + rng() % 9;
+        records.push_back({v, rays});
+        sum += v, sumSq += static_cast<long double>(v) * v, cost += rays;
+    }
+    ears::CellSums inOrder, shuffled;
+    for (const auto& [v, r] : records) inOrder.add(v, r);
+    std::shuffle(records.begin(), records.end(), rng);
+    std::vector<ears::CellSums> parts(7);
+    for (std::size_t i = 0; i < records.size(); ++i) parts[i % 7].add(records[i].first, records[i].second);
+    for (const ears::CellSums& p : parts) shuffled.add(p);
+    EXPECT_EQ(std::memcmp(&inOrder, &shuffled, sizeof inOrder), 0);
+    const double n = static_cast<double>(records.size());
+    EXPECT_NEAR(inOrder.mean(), static_cast<double>(sum / n), 1e-9 * static_cast<double>(sum / n));
+    EXPECT_NEAR(inOrder.secondMoment(), static_cast<double>(sumSq / n), 1e-9 * static_cast<double>(sumSq / n));
+    EXPECT_DOUBLE_EQ(inOrder.meanCost(), static_cast<double>(cost / n));
+}
+
+TEST(EarsSchedule, EpochsDoubleAfterTheFirstTwoSamples) {
+    const std::uint32_t samples[] = {0, 1, 2, 3, 4, 7, 8, 15, 16, 1000};
+    const int epochs[] = {0, 0, 1, 1, 2, 2, 3, 3, 4, 9};
+    const std::uint32_t ends[] = {2, 2, 4, 4, 8, 8, 16, 16, 32, 1024};
+    for (std::size_t i = 0; i < std::size(samples); ++i) {
+        EXPECT_EQ(ears::epochOf(samples[i]), epochs[i]) << samples[i];
+        EXPECT_EQ(ears::epochEnd(samples[i]), ends[i]) << samples[i];
+        EXPECT_LE(ears::epochStart(epochs[i]), samples[i]);
+        EXPECT_EQ(ears::epochEnd(ears::epochStart(epochs[i])), ends[i]);
+    }
+}
+
+TEST(EarsGrid, EveryLevelCoversTheBoxAndTheFinestKnownCellIsChosen) {
+    const ears::Grid grid(Vec3(-1, 0, 2), Vec3(1, 4, 3));
+    EXPECT_EQ(ears::Grid::cellCount(), 8u * 8 * 8 + 16u * 16 * 16 + 32u * 32 * 32 + 64u * 64 * 64);
+    std::size_t first = 0;
+    for (int level = 0; level < ears::Grid::kLevels; ++level) {
+        const std::size_t r = static_cast<std::size_t>(ears::Grid::kResolution[static_cast<std::size_t>(level)]);
+        EXPECT_EQ(grid.cell(Vec3(-1, 0, 2), level), first);                  // the low corner
+        EXPECT_EQ(grid.cell(Vec3(1, 4, 3), level), first + r * r * r - 1);   // the high corner
+        EXPECT_EQ(grid.cell(Vec3(-50, 99, 2.5), level), grid.cell(Vec3(-1, 4, 2.5), level));  // outside: the nearest
+        first += r * r * r;
+    }
+    ears::Factors f;
+    f.varianceRatio.assign(ears::Grid::cellCount(), -1.0f);
+    f.momentRatio.assign(ears::Grid::cellCount(), -1.0f);
+    const Vec3 p(0.3, 1.1, 2.7);
+    EXPECT_EQ(f.cellAt(grid, p), -1);
+    f.momentRatio[grid.cell(p, 1)] = 1;
+    EXPECT_EQ(f.cellAt(grid, p), static_cast<long>(grid.cell(p, 1)));
+    f.momentRatio[grid.cell(p, 3)] = 1;
+    EXPECT_EQ(f.cellAt(grid, p), static_cast<long>(grid.cell(p, 3)));
+}
+
+TEST(EarsLearn, RatiosAreTheCellsVarianceAndMomentOverCost) {
+    std::vector<ears::CellSums> sums(3);
+    for (int i = 0; i < 40; ++i) sums[0].add(i % 2 ? 3.0 : 1.0, 4);  // mean 2, M = 5, v = 1 x 40/39, cost 4
+    for (int i = 0; i < 5; ++i) sums[1].add(1.0, 1);                 // too few to say
+    const ears::Factors f = ears::learnFactors(sums, 6.0, 1.5);
+    EXPECT_DOUBLE_EQ(f.scale, std::sqrt(6.0 / 1.5));
+    EXPECT_NEAR(f.momentRatio[0], std::sqrt(5.0 / 4), 1e-6);
+    EXPECT_NEAR(f.varianceRatio[0], std::sqrt(40.0 / 39 / 4), 1e-6);
+    EXPECT_LT(f.momentRatio[1], 0);
+    EXPECT_LT(f.momentRatio[2], 0);
+    EXPECT_TRUE(ears::learnFactors(sums, 6.0, 0.0).empty());  // an image without variance: nothing to learn
+}
+
+// The continuations of a split vertex (n of them, varying from vertex to vertex): at the first hit, block j
+// of the first-hit estimator's dimensions; further on, the dimensions of a path of their own. Each direction
+// follows the estimator's density, and none repeats another of its pixel (a repeat would show as too many
+// directions in a cell).
+TEST(EarsSplitDirections, FollowTheEstimatorsDensity) {
+    PhongMaterial m;
+    m.rhoD = Color(0.3);
+    m.rhoS = Color(0.6);
+    m.exponent = 30;
+    const ShadingContext ctx{sphericalDirection(std::cos(0.7), 0.4), &m, 1, false};
+    const auto est = makeEstimator("phong");
+    const auto upper = [&](const Vec3& w) { return w.z > 0 ? est->misPdf(ctx, w) : 0.0; };
+    test::ChiSquareOptions opts;
+    opts.alpha = test::sidakAlpha(2);
+    const double mass = test::integrateSphereAdaptive(upper, opts);
+    const std::uint32_t spp = 16;
+    for (bool firstHit : {true, false}) {
+        test::Streams streams(firstHit ? 99 : 100, "sobol", spp);
+        std::vector<Vec3> dirs;
+        DirectionList out;
+        std::size_t calls = 0;
+        for (int pixel = 0; pixel < 4000; ++pixel) {
+            streams.nextPixel();
+            for (std::uint32_t i = 0; i < spp; ++i) {
+                const std::uint32_t n = 1 + (pixel + i) % 8;
+                for (std::uint32_t j = 0; j < n; ++j, ++calls) {
+                    const std::uint64_t path = j == 0 ? 0 : SampleDimensions::splitPath(0, 1, j);
+                    SampleStream s = streams.at(i);
+                    s.setDimension(firstHit ? SampleDimensions::firstHitEstimator(0, j) : SampleDimensions::vertex(1, path) + SampleDimensions::kEstimator);
+                    out.clear();
+                    est->sample(ctx, s, out);
+                    for (const auto& d : out) dirs.push_back(d.wi);
+                }
+            }
+        }
+        const auto r = test::chiSquareSphere(dirs, [&](const Vec3& w) { return upper(w) / mass; }, opts);
+        EXPECT_TRUE(r.passed) << (firstHit ? "first hit: " : "further on: ") << r.describe();
+        EXPECT_NEAR(static_cast<double>(dirs.size()) / calls, mass, 4 * std::sqrt(mass * (1 - mass) / calls));
+    }
+}
+
+// The closed furnace (radiance Le / (1 - a) everywhere inside) with EARS's factors at every vertex: the
+// mean of 8 repeats within Student's t at the 4-sigma tail, and the render did learn and split.
+TEST(EarsRender, TheClosedFurnaceKeepsItsClosedForm) {
+    const double le = 1.0, albedo = 0.5;
+    const Scene scene = test::makeFurnaceSphere(le, albedo);
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    const double exact = le / (1.0 - albedo) - le * std::pow(albedo, 65) / (1.0 - albedo);  // depth 64 truncation
+    std::vector<double> means;
+    for (int r = 0; r < 8; ++r) {
+        RenderSettings rs = earsSettings(8, 8, 64, mixSeed(77, r), "independent");
+        rs.trace.maxDepth = 64;
+        RenderState state(8, 8, 64);
+        renderSamples(scene, accel, *est, rs, state, 64);
+        ASSERT_TRUE(state.ears);
+        EXPECT_EQ(state.ears->epoch, 6);  // epochs [0,2) [2,4) ... [32,64): learned five times
+        EXPECT_FALSE(state.ears->factors.empty());
+        EXPECT_EQ(state.badSamples, 0u);
+        const Image img = state.image();
+        double sum = 0;
+        for (const Color& c : img.pixels) sum += luminance(c);
+        means.push_back(sum / static_cast<double>(img.pixels.size()));
+    }
+    const auto m = test::meanAndError(means);
+    EXPECT_LT(std::abs(m.mean - exact) / m.stdError, studentCritical(7)) << m.mean << " against " << exact;
+}
+
+namespace {
+
+/// The study's scenes (scripts/run-studies.sh): the six boxes and the 19 regime scenes.
+std::vector<std::string> studyScenes() {
+    const std::string dir = SYMPHONG_SOURCE_DIR "/scenes/";
+    std::vector<std::string> s = {"cornell",
+                                  dir + "cornell-diffuse.json",
+                                  dir + "cornell-glossy-100.json",
+                                  dir + "cornell-glossy-1000.json",
+                                  dir + "cornell-all-glossy.json",
+                                  dir + "mcguire-glossy.json"};
+    for (const char* light : {"small", "large", "sky", "sun"})
+        for (int n : {1, 10, 100, 1000}) s.push_back(dir + "regime/" + light + "-n" + std::to_string(n) + ".json");
+    for (const char* name : {"albedo-diffuse", "albedo-specular", "bunny"}) s.push_back(dir + "regime/" + name + ".json");
+    return s;
+}
+
+/// The image's mean luminance and its standard error (independent sampler: pixels are independent).
+std::pair<double, double> meanOf(const Scene& scene, const Accel& accel, SplittingMode splitting, double scale = 1) {
+    // Seeds of their own: the two renders independent, as the z below assumes.
+    RenderSettings rs = earsSettings(40, 30, 128, splitting == SplittingMode::Ears ? 2025 : 2024, "independent");
+    rs.trace.splitting = splitting;
+    const auto est = makeEstimator("phong");
+    const auto [m, se] = test::imageMeanAndError(render(scene, accel, *est, rs));
+    return {scale * m, scale * se};
+}
+
+}  // namespace
+
+// Unbiased on every scene of the study: the mean image with EARS against phong's (both 40x30 at 128 spp
+// under the independent sampler, independent seeds, their own standard errors), |z| < 4; and the
+// comparison can fail: the
+// box 10% brighter is caught (the smallest bias it catches is printed per scene: 0.3% to 6%, heavy-tailed
+// scenes the most).
+TEST(EarsRender, MeanImageAgreesWithPhongOnEveryStudyScene) {
+    for (const std::string& name : studyScenes()) {
+        const Scene scene = loadScene(name);
+        const Accel accel(scene);
+        const auto [mp, sp] = meanOf(scene, accel, SplittingMode::None);
+        const auto [me, se] = meanOf(scene, accel, SplittingMode::Ears);
+        const double z = (me - mp) / std::sqrt(sp * sp + se * se);
+        std::printf("%-28s phong %.5f +- %.5f  ears %.5f +- %.5f  z %+.2f  (catches %.1f%%)\n", std::filesystem::path(name).filename().c_str(),
+                    mp, sp, me, se, z, 400 * std::sqrt(sp * sp + se * se) / mp);
+        EXPECT_LT(std::abs(z), 4.0) << name;
+        if (name == "cornell") {
+            const auto [mb, sb] = meanOf(scene, accel, SplittingMode::Ears, 1.10);
+            EXPECT_GT(std::abs(mb - mp) / std::sqrt(sp * sp + sb * sb), 4.0) << "a 10% bias must be caught";
+        }
+    }
+}
+
+// The same image, variance and learned factors at 1, 2 and 5 threads and in passes of 3, 7 and 16 samples
+// as in one pass; a different seed changes the image.
+TEST(EarsRender, SameImageAtAnyThreadCountAndAnyPasses) {
+    const Scene scene = loadScene(SYMPHONG_SOURCE_DIR "/scenes/regime/sky-n10.json");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    const auto run = [&](int threads, const std::vector<std::uint32_t>& passes, std::uint64_t seed) {
+        RenderSettings rs = earsSettings(40, 24, 16, seed);
+        rs.threads = threads;
+        RenderState state(40, 24, 16);
+        for (std::uint32_t upTo : passes) renderSamples(scene, accel, *est, rs, state, upTo);
+        return state;
+    };
+    const RenderState one = run(1, {16}, 5);
+    EXPECT_GT(one.paths, one.samples);  // it split somewhere
+    for (const auto& [threads, passes] : std::vector<std::pair<int, std::vector<std::uint32_t>>>{{2, {16}}, {5, {16}}, {2, {3, 7, 16}}}) {
+        const RenderState other = run(threads, passes, 5);
+        EXPECT_TRUE(sameBits(one.image(), other.image())) << threads << " threads, " << passes.size() << " passes";
+        EXPECT_TRUE(sameBits(one.variance(), other.variance())) << threads << " threads";
+        EXPECT_EQ(one.rays, other.rays);
+        ASSERT_TRUE(other.ears);
+        EXPECT_EQ(one.ears->factors.momentRatio, other.ears->factors.momentRatio);
+        EXPECT_EQ(one.ears->factors.scale, other.ears->factors.scale);
+    }
+    EXPECT_FALSE(sameBits(one.image(), run(2, {16}, 6).image()));
+}
+
+// A checkpoint taken inside an epoch (5 of 16 samples: factors of epoch 2 learned, epoch 2's sums begun)
+// resumes to the uninterrupted image bit for bit.
+TEST(EarsCheckpoint, ResumesInsideAnEpochBitForBit) {
+    const Scene scene = loadScene(SYMPHONG_SOURCE_DIR "/scenes/regime/sky-n100.json");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    const RenderSettings rs = earsSettings(24, 16, 16, 3);
+    RenderState whole(24, 16, 16);
+    renderSamples(scene, accel, *est, rs, whole, 16);
+    RenderState part(24, 16, 16);
+    renderSamples(scene, accel, *est, rs, part, 5);
+    ASSERT_EQ(part.ears->epoch, 2);
+    const test::TempDir tmp;
+    const std::string path = tmp.file("ears.ckpt");
+    const RenderIdentity id{"sky-n100", "0", nlohmann::json::object()};
+    writeCheckpoint(path, id, part);
+    RenderIdentity readId;
+    RenderState resumed;
+    readCheckpoint(path, readId, resumed);
+    ASSERT_TRUE(resumed.ears);
+    EXPECT_EQ(resumed.ears->epoch, 2);
+    EXPECT_EQ(resumed.ears->factors.momentRatio, part.ears->factors.momentRatio);
+    EXPECT_EQ(std::memcmp(resumed.ears->sums.data(), part.ears->sums.data(), part.ears->sums.size() * sizeof(ears::CellSums)), 0);
+    renderSamples(scene, accel, *est, rs, resumed, 16);
+    EXPECT_TRUE(sameBits(whole.image(), resumed.image()));
+    EXPECT_TRUE(sameBits(whole.variance(), resumed.variance()));
+}
+
+TEST(EarsCli, BadValuesAreRefusedWithExitCode2) {
+    const test::TempDir tmp;
+    auto r = test::runCliArgs({"render", "--splitting", "foo", "-o", tmp.file("a.png")});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("foo"), std::string::npos) << r.err;
+    r = test::runCliArgs({"render", "--splitting", "ears", "--split", "2", "-o", tmp.file("b.png")});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("--split 2 and --splitting ears"), std::string::npos) << r.err;
+    const std::string scene = tmp.write("s.json", R"({"builtin": "cornell", "render": {"splitting": "sometimes"}})");
+    r = test::runCliArgs({"render", scene, "-o", tmp.file("c.png")});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("s.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("sometimes"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(tmp.file("a.png")) || std::filesystem::exists(tmp.file("b.png")) ||
+                 std::filesystem::exists(tmp.file("c.png")));
+}
