@@ -1,5 +1,8 @@
 #include "distrib/render.h"
 
+#include "io/input_error.h"
+
+#include <fmt/format.h>
 #include <mpi.h>
 
 #include <algorithm>
@@ -208,9 +211,17 @@ void gatherTiles(const MpiJob& job, RenderState& state, std::vector<int>& tilesP
 
 }  // namespace
 
+void requireOneRankForEars(const MpiJob& job, const RenderSettings& settings) {
+    if (job.active() && job.size() > 1 && settings.trace.splitting == SplittingMode::Ears)
+        throw InputError(fmt::format("--splitting ears runs in one process: what it learns is not shared among MPI ranks yet (this job has "
+                                     "{}); run it with one rank, or without --splitting ears",
+                                     job.size()));
+}
+
 void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                               const RenderSettings& settings, RenderState& state, std::uint32_t upTo, std::atomic<std::uint64_t>* progress,
                               DistributedStats* distributed) {
+    requireOneRankForEars(job, settings);
     if (!job.active() || job.size() == 1) return renderSamples(scene, accel, estimator, settings, state, upTo, progress);
     const auto start = std::chrono::steady_clock::now();
     const int total = tileCount(settings.width, settings.height);
@@ -292,6 +303,7 @@ void followPasses(const MpiJob& job, const Scene& scene, const Accel& accel, con
 
 RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                                const RenderSettings& settings, std::atomic<std::uint64_t>* progress, DistributedStats* distributed) {
+    requireOneRankForEars(job, settings);
     if (!job.active() || job.size() == 1) return render(scene, accel, estimator, settings, progress);
     RenderState state(settings.width, settings.height, settings.spp);
     renderSamplesDistributed(job, scene, accel, estimator, settings, state, settings.spp, progress, distributed);

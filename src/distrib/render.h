@@ -17,6 +17,10 @@ struct DistributedStats {
     std::vector<int> tilesPerRank;  ///< rank 0: how many tiles each rank rendered
 };
 
+/// InputError (the same on every rank) for --splitting ears in a job of more than one rank: its learning
+/// is not shared among ranks yet.
+void requireOneRankForEars(const MpiJob& job, const RenderSettings& settings);
+
 /// Collective over the job's ranks: takes every tile of `state` to `upTo` samples (renderSamples in a job
 /// of one rank). Rank 0 holds the whole state: it hands each granted tile's sums out with the tile, and
 /// the rank that renders it sends them back, so a pixel's samples are added in order wherever they are

@@ -8,6 +8,8 @@
 #   one-rank-fails         the scene is missing on rank 1 only: exit 2, rank 0 reports it once, no file
 #   study                  a study under 2 ranks has the rows of a study without MPI (timings aside)
 #   study-bad-input        a study's bad input under 2 ranks: exit 2, one message, no results
+#   ears-refused           --splitting ears under 2 ranks (its learning is not shared yet): exit 2, one
+#                          message, no image; with passes too
 #   study-interrupt        SIGINT to mpiexec during a study under 2 ranks: whole groups of rows kept,
 #                          the report marked interrupted, rank 0 says so
 #   rank-dies              rank 1 killed during a render: non-zero exit, rank 0 says so, no file
@@ -88,6 +90,13 @@ study-bad-input)
   expect_bad_input "symphong: error: $work/missing.obj: no such file" \
     "${launch[@]}" -np 2 "$bin" study "$work/missing.obj" -o "$work/st"
   [ ! -e "$work/st/results.csv" ] || fail "results.csv was created"
+  ;;
+ears-refused)
+  for passes in "" "--pass-spp 1"; do
+    # shellcheck disable=SC2086
+    expect_bad_input "symphong: error: --splitting ears runs in one process: what it learns is not shared among MPI ranks yet (this job has 2); run it with one rank, or without --splitting ears" \
+      "${launch[@]}" -np 2 "$bin" "${render[@]}" --splitting ears $passes -o "$work/x.png"
+  done
   ;;
 study-interrupt)
   # Long enough to be interrupted after its first rows; short tiles, so that it stops within the second
