@@ -255,6 +255,7 @@ double PathTracer::continuationFactor(const Vec3& p, const Color& throughput, in
     if (cell >= 0) {
         const auto c = static_cast<std::size_t>(cell);
         q = ears::splittingFactor(luminance(throughput), f.varianceRatio[c], f.momentRatio[c], f.scale);
+        if (depth + 1 < settings_.rrDepth) q = std::max(q, 1.0);  // no roulette before the roulette depth (EARS's rrDepth)
     } else if (depth + 1 >= settings_.rrDepth) {
         q = std::clamp(maxComponent(throughput), ears::kMinFactor, 0.95);
         if (std::isnan(q)) q = ears::kMinFactor;

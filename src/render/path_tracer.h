@@ -145,9 +145,9 @@ private:
     /// first hit with --split k), each past Russian roulette by throughput.
     Color continuePath(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, int depth,
                        std::uint64_t path, const Color& throughput, PathContext& pc) const;
-    /// --splitting ears: the factor q of a vertex at p with this throughput (splitting/ears.h; where no
-    /// cell has an estimate yet, 1 before the roulette depth and the throughput's largest component, at
-    /// most 0.95, from it on).
+    /// --splitting ears: the factor q of a vertex at p with this throughput (splitting/ears.h, at least 1
+    /// before the roulette depth; where no cell has an estimate yet, 1 before the roulette depth and the
+    /// throughput's largest component, at most 0.95, from it on).
     double continuationFactor(const Vec3& p, const Color& throughput, int depth) const;
     /// --splitting ears: floor(q + u) continuations, weighted 1/q, their directions' MIS densities times
     /// q; each is reported with its value and rays in scratch.splitRecords. Continuation j >= 1 starts a
