@@ -103,6 +103,7 @@ double nonNegative(const py::handle& v, const std::string& where) {
 /// A colour: one number (grey) or three (an alpha beyond them, as Blender's RGBA sockets give it, is
 /// not read); each finite and >= 0.
 Color colour(const py::handle& v, const std::string& where) {
+    if (py::isinstance<py::array>(v) && v.cast<py::array>().ndim() == 0) return Color(nonNegative(v.attr("item")(), where));
     if (!py::isinstance<py::str>(v) && py::hasattr(v, "__float__") && !py::isinstance<py::array>(v)) return Color(nonNegative(v, where));
     const py::sequence seq = py::reinterpret_borrow<py::sequence>(py::isinstance<py::array>(v) ? v.attr("tolist")() : py::reinterpret_borrow<py::object>(v));
     if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq) || (seq.size() != 3 && seq.size() != 4))
