@@ -259,13 +259,16 @@ class SymphongRenderEngine(bpy.types.RenderEngine):
                 t = time.perf_counter()
                 image = render.advance(min(spp, reached + step))
                 reached = render.samples_reached
+                rendered = time.perf_counter() - t
                 rgba[:, :, :3] = image[::-1]  # Blender's rows start at the bottom
-                layer.rect = rgba.reshape(-1, 4)
+                layer.rect.foreach_set(rgba.reshape(-1, 4))
                 self.update_result(result)
                 self.update_progress(reached / spp)
                 self.update_stats("", f"symphong: {reached}/{spp} samples per pixel")
-                # Passes of about half a second: Esc and the picture stay responsive.
-                if time.perf_counter() - t < 0.25:
+                # Passes of about a second (Esc and the picture stay responsive), and long enough that showing
+                # the picture costs at most a tenth of the time.
+                shown = time.perf_counter() - t - rendered
+                if rendered < max(0.5, 10 * shown):
                     step = min(step * 2, 1 << 16)
                 if self.test_break():
                     break
