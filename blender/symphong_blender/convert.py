@@ -422,8 +422,10 @@ class Conversion:
         image = pixels["image"]
         if image.dtype == np.uint8:  # an 8-bit environment: decode as a colour map would be decoded
             image = _srgb_to_linear(image) if tex.image.colorspace_settings.name == "sRGB" else image.astype(np.float32) / 255
-        # Blender's equirectangular u = atan2(d.y, -d.x) / 2 pi + 0.5 is symphong's (in its Y-up frame) at rotation -90.
-        self.environment = {"image": image, "scale": strength, "rotation": -90.0 + rotation}
+        # Blender's equirectangular u = 0.5 - atan2(d.y, d.x) / 2 pi is symphong's u = 0.5 + atan2(d.x, -d.z) / 2 pi
+        # - rotation / 360 in its Y-up frame (d.x, d.z, -d.y) at rotation 90; a Mapping node that turns the lookup
+        # vector by g about Z adds g.
+        self.environment = {"image": image, "scale": strength, "rotation": 90.0 + rotation}
 
     # ------------------------------------------------------------------------------------------ camera
     def add_camera(self, cam_obj):

@@ -298,9 +298,9 @@ addon_utils.enable("io_scene_gltf2", default_set=True)
 bpy.ops.export_scene.gltf(filepath=os.path.join(OUT, NAME + ".glb"), export_format="GLB", export_cameras=True, export_lights=True)
 if NAME == "hdr":
     with open(os.path.join(OUT, "hdr.json"), "w") as f:
-        # Blender's equirectangular lookup is symphong's lat-long at rotation -90 in the +Y-up frame; the Mapping
-        # node turns the lookup vector by +30 degrees about Z, i.e. the sky by -30 (docs/blender.md).
-        json.dump({"mesh": "hdr.glb", "environment": {"map": "sky.exr", "rotation": -90.0 + rotation}}, f, indent=1)
+        # Blender's equirectangular lookup is symphong's lat-long at rotation 90 in the +Y-up frame; the Mapping
+        # node turns the lookup vector by +30 degrees about Z, which adds 30 (docs/blender.md).
+        json.dump({"mesh": "hdr.glb", "environment": {"map": "sky.exr", "rotation": 90.0 + rotation}}, f, indent=1)
 
 if NAME in {"cornell-diffuse", "hdr"}:
     # The Cycles twin: Diffuse BSDF for every Principled (specular 0: symphong's rho_d = base colour), emitters
