@@ -28,6 +28,56 @@ def y_up(v):
     return np.asarray(v, dtype=np.float64) @ Z_UP_TO_Y_UP.T
 
 
+def _triangles(mesh):
+    """(T, 3) loop indices of the mesh's triangles and (T,) the polygon of each. Triangles and quads are split as
+    Blender's own tessellation splits them (a quad along its 0-2 diagonal), with NumPy; a mesh with larger
+    polygons takes Blender's loop triangles (its polygon fill)."""
+    polys = len(mesh.polygons)
+    total = np.empty(polys, np.int32)
+    mesh.polygons.foreach_get("loop_total", total)
+    if polys and total.max() > 4:
+        mesh.calc_loop_triangles()
+        n = len(mesh.loop_triangles)
+        tri_loops = np.empty(n * 3, np.int32)
+        mesh.loop_triangles.foreach_get("loops", tri_loops)
+        tri_poly = np.empty(n, np.int32)
+        mesh.loop_triangles.foreach_get("polygon_index", tri_poly)
+        return tri_loops.reshape(-1, 3), tri_poly
+    start = np.empty(polys, np.int32)
+    mesh.polygons.foreach_get("loop_start", start)
+    keep = total >= 3
+    first = np.stack([start, start + 1, start + 2], axis=1)[keep]
+    quads = total == 4
+    second = np.stack([start, start + 2, start + 3], axis=1)[quads]
+    poly = np.arange(polys, dtype=np.int32)
+    return np.concatenate([first, second]), np.concatenate([poly[keep], poly[quads]])
+
+
+def _normals(mesh, tri_loops, tri_verts, tri_poly):
+    """Shading normals and their (T, 3) index per corner, or (None, None) for a mesh without smooth faces (the
+    triangles' own normals are then exact). Smooth faces take Blender's vertex normals, flat ones their face's
+    normal; custom normals and auto smooth (split at sharp edges) take Blender's per-corner normals."""
+    smooth = np.empty(len(mesh.polygons), bool)
+    mesh.polygons.foreach_get("use_smooth", smooth)
+    if not smooth.any() and not mesh.has_custom_normals:
+        return None, None
+    if mesh.has_custom_normals or mesh.use_auto_smooth:
+        mesh.calc_normals_split()
+        n = np.empty(len(mesh.loops) * 3, np.float32)
+        mesh.loops.foreach_get("normal", n)
+        return n.reshape(-1, 3), tri_loops
+    vn = np.empty(len(mesh.vertices) * 3, np.float32)
+    mesh.vertex_normals.foreach_get("vector", vn)
+    if smooth.all():
+        return vn.reshape(-1, 3), tri_verts
+    pn = np.empty(len(mesh.polygons) * 3, np.float32)
+    mesh.polygon_normals.foreach_get("vector", pn)
+    flat = ~smooth[tri_poly]
+    idx = tri_verts.astype(np.int64)
+    idx[flat] = len(mesh.vertices) + tri_poly[flat, None]
+    return np.concatenate([vn.reshape(-1, 3), pn.reshape(-1, 3)]), idx
+
+
 class Conversion:
     """The keyword arguments of symphong.Scene.from_arrays for one evaluated depsgraph, and the reports."""
 
@@ -247,30 +297,24 @@ class Conversion:
             self._mesh_cache[key] = None
             return None
         try:
-            mesh.calc_loop_triangles()
-            n = len(mesh.loop_triangles)
-            if n == 0:
+            tri_loops, tri_poly = _triangles(mesh)
+            if len(tri_loops) == 0:
                 self._mesh_cache[key] = None
                 return None
+            loops = len(mesh.loops)
+            loop_vert = np.empty(loops, np.int32)
+            mesh.loops.foreach_get("vertex_index", loop_vert)
+            tri_verts = loop_vert[tri_loops]
             verts = np.empty(len(mesh.vertices) * 3, np.float32)
             mesh.vertices.foreach_get("co", verts)
-            tri_verts = np.empty(n * 3, np.int32)
-            mesh.loop_triangles.foreach_get("vertices", tri_verts)
-            tri_loops = np.empty(n * 3, np.int32)
-            mesh.loop_triangles.foreach_get("loops", tri_loops)
-            slots = np.empty(n, np.int32)
-            mesh.loop_triangles.foreach_get("material_index", slots)
-            smooth = np.empty(len(mesh.polygons), bool)
-            mesh.polygons.foreach_get("use_smooth", smooth)
             mats = [self.material(s.material) for s in obj.material_slots] or [self.material(None)]
-            mat_ids = np.asarray(mats, np.int64)[np.clip(slots, 0, len(mats) - 1)]
-            loops = len(mesh.loops)
-            normals = None
-            if smooth.any() or mesh.has_custom_normals:
-                mesh.calc_normals_split()
-                normals = np.empty(loops * 3, np.float32)
-                mesh.loops.foreach_get("normal", normals)
-                normals = normals.reshape(-1, 3)
+            if len(mats) > 1:
+                slots = np.empty(len(mesh.polygons), np.int32)
+                mesh.polygons.foreach_get("material_index", slots)
+                mat_ids = np.asarray(mats, np.int64)[np.clip(slots, 0, len(mats) - 1)][tri_poly]
+            else:
+                mat_ids = np.full(len(tri_loops), mats[0], np.int64)
+            normals, normal_idx = _normals(mesh, tri_loops, tri_verts, tri_poly)
             uvs = None
             uv_layer = mesh.uv_layers.active
             for layer in mesh.uv_layers:
@@ -288,8 +332,8 @@ class Conversion:
                 sign = np.empty(loops, np.float32)
                 mesh.loops.foreach_get("bitangent_sign", sign)
                 tangents = (t.reshape(-1, 3), sign)
-            arrays = dict(positions=verts.reshape(-1, 3), triangles=tri_verts.reshape(-1, 3), loops=tri_loops.reshape(-1, 3),
-                          material_ids=mat_ids, normals=normals, uvs=uvs, tangents=tangents, loop_count=loops)
+            arrays = dict(positions=verts.reshape(-1, 3), triangles=tri_verts, loops=tri_loops, material_ids=mat_ids, normals=normals,
+                          normal_indices=normal_idx, uvs=uvs, tangents=tangents, loop_count=loops)
         finally:
             obj.to_mesh_clear()
         self._mesh_cache[key] = arrays
@@ -311,7 +355,13 @@ class Conversion:
         self.triangles.append(triangles)
         self.material_ids.append(arrays["material_ids"])
         count = arrays["loop_count"]
-        self.normals.append(None if arrays["normals"] is None else arrays["normals"] @ (Z_UP_TO_Y_UP @ np.linalg.inv(linear).T).T)
+        if arrays["normals"] is None:
+            self.normals.append(None)
+        else:
+            idx = arrays["normal_indices"]
+            if np.linalg.det(linear) < 0:
+                idx = idx[:, [0, 2, 1]]
+            self.normals.append((arrays["normals"] @ (Z_UP_TO_Y_UP @ np.linalg.inv(linear).T).T, idx))
         self.uvs.append(arrays["uvs"])
         if arrays["tangents"] is not None:
             t, sign = arrays["tangents"]
@@ -493,9 +543,18 @@ class Conversion:
         corner_total = self.corner_count
         corner_index = np.concatenate([l for l, _ in self._loops])
         if any(n is not None for n in self.normals):
-            # Meshes without smooth faces get NaN-free zero normals: from_arrays uses the triangle's own there.
-            kw["normals"] = np.concatenate([n if n is not None else np.zeros((c, 3)) for n, (_, c) in zip(self.normals, self._loops)])
-            kw["normal_indices"] = corner_index
+            # A mesh without smooth faces points at one zero normal: from_arrays uses the triangles' own there.
+            rows, index, offset = [], [], 0
+            for entry, tris in zip(self.normals, self.triangles):
+                if entry is None:
+                    rows.append(np.zeros((1, 3), np.float32))
+                    index.append(np.full(tris.shape, offset, np.int64))
+                    offset += 1
+                else:
+                    rows.append(entry[0])
+                    index.append(entry[1].astype(np.int64) + offset)
+                    offset += len(entry[0])
+            kw["normals"], kw["normal_indices"] = np.concatenate(rows), np.concatenate(index)
         if any(u is not None for u in self.uvs):
             kw["uvs"] = np.concatenate([u if u is not None else np.zeros((c, 2)) for u, (_, c) in zip(self.uvs, self._loops)])
             kw["uv_indices"] = corner_index
