@@ -17,11 +17,14 @@ import os
 import pathlib
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "blender" / "tests"))
+from regions import ratio, regions  # noqa: E402  (shared with scripts/blender-addon/agreement.py)
 BLENDER = os.environ.get("SYMPHONG_BLENDER", shutil.which("blender") or "blender")
 BUILD = pathlib.Path(os.environ.get("SYMPHONG_BUILD_DIR", REPO / "build" / "release"))
 BINARY = os.environ.get("SYMPHONG_BINARY", str(BUILD / "symphong"))
@@ -75,34 +78,6 @@ def headless(env, directory, name, engine="SYMPHONG"):
     return frame, log
 
 
-def regions(sym, scene, width, height):
-    """Masks of the pixels whose centre sees each material, eroded by a pixel (no edge pixel counts)."""
-    hits = scene.primary_hits(width, height)
-    material = np.where(hits >= 0, scene.mesh()["material"][np.maximum(hits, 0)], -1)
-    inner = np.full(material.shape, False)
-    inner[1:-1, 1:-1] = True
-    for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0)):
-        inner &= np.roll(material, (dy, dx), axis=(0, 1)) == material
-    masks = {m["name"]: inner & (material == i) for i, m in enumerate(scene.materials)}
-    # Each material's image quadrants too (a texture's or a lit side's error shows in part of a surface).
-    h, w = material.shape
-    for name, mask in list(masks.items()):
-        for qy, top in ((slice(0, h // 2), "top"), (slice(h // 2, h), "bottom")):
-            for qx, side in ((slice(0, w // 2), "left"), (slice(w // 2, w), "right")):
-                q = np.zeros_like(mask)
-                q[qy, qx] = mask[qy, qx]
-                masks[f"{name}, {top} {side}"] = q
-    return {name: mask for name, mask in masks.items() if mask.sum() >= 20}
-
-
-def ratio(test, reference, mask):
-    """Mean luminance ratio test / reference over a mask, and its standard error from the difference image."""
-    lum = np.array([0.2126, 0.7152, 0.0722])
-    a, b = test[mask] @ lum, reference[mask] @ lum
-    d = a - b
-    return a.mean() / b.mean(), d.std(ddof=1) / np.sqrt(d.size) / b.mean()
-
-
 @pytest.mark.parametrize("name", ["cornell-diffuse", "cornell-glossy", "textured"])
 def test_headless_frame_agrees_with_the_gltf_export(sym, env, scenes, name):
     directory = scenes(name)
@@ -113,7 +88,7 @@ def test_headless_frame_agrees_with_the_gltf_export(sym, env, scenes, name):
     subprocess.run([BINARY, "render", directory / f"{name}.glb", "--spp", str(SPP), "--width", str(SIZE), "--height", str(SIZE),
                     "-o", exported], check=True, capture_output=True)
     reference = sym.read_image(str(exported))
-    masks = regions(sym, sym.load_scene(str(directory / f"{name}.glb")), SIZE, SIZE)
+    masks = regions(sym.load_scene(str(directory / f"{name}.glb")), SIZE, SIZE)
     assert len(masks) >= 3
     for region, mask in masks.items():
         r, se = ratio(image, reference, mask)
@@ -131,7 +106,7 @@ def test_hdr_lit_diffuse_sphere_agrees_with_cycles(sym, env, scenes):
     cycles_frame, _ = headless(env, directory, "hdr-cycles", engine="CYCLES")
     cycles = sym.read_image(str(cycles_frame))
     scene = sym.load_scene(str(directory / "hdr.json"))
-    masks = regions(sym, scene, SIZE, SIZE)
+    masks = regions(scene, SIZE, SIZE)
     for region, mask in masks.items():  # quadrants included: the lit side must be the same side
         r, se = ratio(ours, cycles, mask)
         assert abs(r - 1) <= 0.03 + 4 * se, f"hdr, region {region}: symphong / Cycles {r:.4f} +- {se:.4f}"
