@@ -11,12 +11,14 @@ SCENE is one of
                    Map node, strength 1), Specular 0.5, Roughness 0.5, lit by an emissive quad
   hdr              a smooth white sphere (Specular 0) on a floor, lit only by an environment texture (a float
                    lat-long sky with a sun patch, written as sky.exr) with a Mapping node turning it 30 degrees
+  lights           a diffuse floor and two walls lit by a point light, a sun and a square area light
+  spot             the same lit by a spot light alone
   odd              a cube with a Toon BSDF, a volume object, a hair system and a Principled with Transmission:
                    what the add-on cannot map (its reports)
 
 Writes OUTDIR/SCENE.blend (render engine SYMPHONG, WIDTH x HEIGHT, symphong at SPP samples per pixel, 32-bit
 float OpenEXR output), OUTDIR/SCENE.glb (Blender's glTF exporter: cameras on, +Y up) and for the two scenes
-where the Phong mapping is exact (cornell-diffuse, hdr) OUTDIR/SCENE-cycles.blend: the same scene for Cycles
+where the Phong mapping is exact (cornell-diffuse, hdr, lights, spot) OUTDIR/SCENE-cycles.blend: the same scene for Cycles
 with each Principled BSDF replaced by a Diffuse BSDF (Lambertian: what symphong renders for Specular 0;
 Cycles' Principled diffuse is Disney's, not Lambertian) at SPP samples, no denoising or adaptive sampling,
 1-pixel box filter, emitters emitting from their front only. The hdr scene also gets OUTDIR/hdr.json: the glb
@@ -268,8 +270,34 @@ def odd():
     black_world()
 
 
+def lights(spot):
+    """Diffuse floor and walls lit by Blender lights only: point, sun and a square area light (or a spot alone)."""
+    add_quad("floor", (-2, -2, 0), (4, 0, 0), (0, 4, 0), principled("floor", (0.7, 0.7, 0.7)))
+    add_quad("back", (-2, 2, 0), (4, 0, 0), (0, 0, 3), principled("back", (0.6, 0.5, 0.4)))
+    add_quad("left", (-2, -2, 0), (0, 4, 0), (0, 0, 3), principled("left", (0.3, 0.5, 0.6)))
+
+    def light(kind, name, location, rotation=(0, 0, 0), **props):
+        data = bpy.data.lights.new(name, kind)
+        for k, v in props.items():
+            setattr(data, k, v)
+        ob = bpy.data.objects.new(name, data)
+        ob.location, ob.rotation_euler = location, tuple(math.radians(a) for a in rotation)
+        scene.collection.objects.link(ob)
+
+    if spot:
+        light("SPOT", "spot", (0.3, 0.2, 2.5), (20, 0, 0), energy=300.0, spot_size=math.radians(70), spot_blend=0.3, shadow_soft_size=0.0)
+    else:
+        light("POINT", "point", (-1.0, 0.5, 1.5), energy=80.0, color=(1.0, 0.8, 0.6), shadow_soft_size=0.0)
+        light("SUN", "sun", (0, 0, 5), (40, 0, 160), energy=1.5, angle=0.0)
+        # Above and behind the camera's view, and out of the sun's way: symphong's quad is a surface (seen by the camera,
+        # casting shadows), Cycles' area light is not.
+        light("AREA", "area", (1.0, -3.0, 3.4), (50, 0, 0), energy=60.0, size=0.8, color=(0.6, 0.8, 1.0))
+    add_camera((0.5, -4.5, 2.4), (68, 0, 5))
+    black_world()
+
+
 builders = {"cornell-diffuse": lambda: cornell(False), "cornell-glossy": lambda: cornell(True), "textured": textured, "hdr": hdr,
-            "odd": odd}
+            "odd": odd, "lights": lambda: lights(False), "spot": lambda: lights(True)}
 if NAME not in builders:
     sys.exit(f"make_scenes.py: unknown scene {NAME} (one of {', '.join(builders)})")
 rotation = builders[NAME]()
@@ -302,7 +330,7 @@ if NAME == "hdr":
         # node turns the lookup vector by +30 degrees about Z, which adds 30 (docs/blender.md).
         json.dump({"mesh": "hdr.glb", "environment": {"map": "sky.exr", "rotation": 90.0 + rotation}}, f, indent=1)
 
-if NAME in {"cornell-diffuse", "hdr"}:
+if NAME in {"cornell-diffuse", "hdr", "lights", "spot"}:
     # The Cycles twin: Diffuse BSDF for every Principled (specular 0: symphong's rho_d = base colour), emitters
     # from their front faces only (symphong's emitters are one-sided), Cycles settings of docs/validation.md.
     for m in bpy.data.materials:
