@@ -125,10 +125,6 @@ def _settings_annotations(sym):
     return ann
 
 
-class SymphongSettings(bpy.types.PropertyGroup):
-    """Replaced at registration by a class with one property per schema setting."""
-
-
 _settings_class = None
 _schema = []
 

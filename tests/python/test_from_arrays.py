@@ -265,3 +265,22 @@ def test_progressive_passes_give_the_one_pass_image(sym):
     assert p.stats()["spp_reached"] == 8
     with pytest.raises(ValueError, match="Progressive: time"):
         sym.Progressive(scene, time=10)
+
+
+def test_progressive_cancel_from_another_thread_stops_the_pass(sym):
+    """What the Blender add-on does on Esc: cancel() from a watcher thread while advance() renders. A pass stops
+    after the tiles in flight (16 x 16 pixels each): here 64 tiles of 2048 samples per pixel, about a minute
+    on 2 cores, cancelled after half a second."""
+    import threading
+    import time
+    p = sym.Progressive(sym.load_scene("cornell"), spp=2048, width=128, height=128, threads=2)
+    threading.Timer(0.5, p.cancel).start()
+    t = time.perf_counter()
+    image = p.advance(2048)
+    elapsed = time.perf_counter() - t
+    assert p.samples_reached < 2048 and image.shape == (128, 128, 3)
+    done = p.samples_done
+    assert 0 < done < 128 * 128 * 2048 / 2, f"{done} samples taken before the pass stopped ({elapsed:.1f} s)"
+    # The render goes on from where it stopped.
+    p.advance(1)
+    assert p.samples_reached >= 1
