@@ -5,8 +5,8 @@
 // naming the array and element) and finished by the loaders' own finalizeScene. For host applications that
 // have their scenes in memory: the Blender add-on (blender/symphong_blender). python/host.cpp has the rest of
 // what it needs.
-#include "io/input_error.h"
 #include "python/builder.h"
+#include "io/input_error.h"
 #include "scene/json_lights.h"
 #include "texture/texture_io.h"
 
@@ -41,8 +41,8 @@ py::array_t<double, py::array::c_style> floatRows(const py::handle& obj, const s
         throw py::type_error(fmt::format("{}: expected an array of numbers, got dtype {}", name, py::str(raw.dtype()).cast<std::string>()));
     const bool ok = cols == 0 ? raw.ndim() == 1 : raw.ndim() == 2 && raw.shape(1) == cols;
     if (!ok)
-        throw InputError(fmt::format("{}: expected an array of shape {}, got shape {}", name, cols == 0 ? "(N,)" : fmt::format("(N, {})", cols),
-                                     shapeText(raw)));
+        throw InputError(fmt::format("{}: expected an array of shape {}, got shape {}", name,
+                                     cols == 0 ? "(N,)" : fmt::format("(N, {})", cols), shapeText(raw)));
     auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(raw);
     const double* p = a.data();
     const py::ssize_t width = cols == 0 ? 1 : cols;
@@ -56,21 +56,23 @@ py::array_t<double, py::array::c_style> floatRows(const py::handle& obj, const s
 
 /// An integer (N, cols) array, (N,) when cols == 0, each value in [0, limit): ValueError naming the
 /// array, the element and `limitName` for one out of range.
-py::array_t<std::int64_t, py::array::c_style> indexRows(const py::handle& obj, const std::string& name, py::ssize_t cols, std::int64_t limit,
-                                                        const std::string& limitName) {
+py::array_t<std::int64_t, py::array::c_style> indexRows(const py::handle& obj, const std::string& name, py::ssize_t cols,
+                                                        std::int64_t limit, const std::string& limitName) {
     const py::array raw = py::array::ensure(obj);
     if (!raw) throw py::type_error(fmt::format("{}: expected an array of integers", name));
     const char kind = raw.dtype().kind();
     if (kind != 'i' && kind != 'u' && !(raw.size() == 0 && kind == 'f'))
-        throw py::type_error(fmt::format("{}: expected an array of integers, got dtype {}", name, py::str(raw.dtype()).cast<std::string>()));
+        throw py::type_error(
+            fmt::format("{}: expected an array of integers, got dtype {}", name, py::str(raw.dtype()).cast<std::string>()));
     const bool ok = cols == 0 ? raw.ndim() == 1 : raw.ndim() == 2 && raw.shape(1) == cols;
     if (!ok)
-        throw InputError(fmt::format("{}: expected an array of shape {}, got shape {}", name, cols == 0 ? "(N,)" : fmt::format("(N, {})", cols),
-                                     shapeText(raw)));
+        throw InputError(fmt::format("{}: expected an array of shape {}, got shape {}", name,
+                                     cols == 0 ? "(N,)" : fmt::format("(N, {})", cols), shapeText(raw)));
     if (kind == 'u' && raw.itemsize() == 8) {  // values beyond int64 would wrap in the cast below
         const auto u = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(raw);
         for (py::ssize_t i = 0; i < u.size(); ++i)
-            if (u.data()[i] > static_cast<std::uint64_t>(limit)) throw InputError(fmt::format("{}: index {} is out of range", name, u.data()[i]));
+            if (u.data()[i] > static_cast<std::uint64_t>(limit))
+                throw InputError(fmt::format("{}: index {} is out of range", name, u.data()[i]));
     }
     auto a = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(raw);
     const std::int64_t* p = a.data();
@@ -88,7 +90,8 @@ py::array_t<std::int64_t, py::array::c_style> indexRows(const py::handle& obj, c
 
 double finiteNumber(const py::handle& v, const std::string& where) {
     if (py::isinstance<py::str>(v) || !py::hasattr(v, "__float__"))
-        throw py::type_error(fmt::format("{}: expected a number, got {}", where, py::str(py::type::of(v).attr("__name__")).cast<std::string>()));
+        throw py::type_error(
+            fmt::format("{}: expected a number, got {}", where, py::str(py::type::of(v).attr("__name__")).cast<std::string>()));
     const double x = v.cast<double>();
     if (!std::isfinite(x)) throw InputError(fmt::format("{} = {} is not finite", where, x));
     return x;
@@ -105,7 +108,8 @@ double nonNegative(const py::handle& v, const std::string& where) {
 Color colour(const py::handle& v, const std::string& where) {
     if (py::isinstance<py::array>(v) && v.cast<py::array>().ndim() == 0) return Color(nonNegative(v.attr("item")(), where));
     if (!py::isinstance<py::str>(v) && py::hasattr(v, "__float__") && !py::isinstance<py::array>(v)) return Color(nonNegative(v, where));
-    const py::sequence seq = py::reinterpret_borrow<py::sequence>(py::isinstance<py::array>(v) ? v.attr("tolist")() : py::reinterpret_borrow<py::object>(v));
+    const py::sequence seq =
+        py::reinterpret_borrow<py::sequence>(py::isinstance<py::array>(v) ? v.attr("tolist")() : py::reinterpret_borrow<py::object>(v));
     if (!py::isinstance<py::sequence>(seq) || py::isinstance<py::str>(seq) || (seq.size() != 3 && seq.size() != 4))
         throw InputError(fmt::format("{}: expected a number or 3 numbers (RGB), got {}", where, reprOf(v)));
     return {nonNegative(seq[0], where + "[0]"), nonNegative(seq[1], where + "[1]"), nonNegative(seq[2], where + "[2]")};
@@ -169,8 +173,8 @@ std::vector<std::int32_t> cornerIndices(const py::handle& indicesObj, const std:
     std::vector<std::int32_t> out(3 * t);
     if (indicesObj.is_none()) {
         if (rows != vertexCount)
-            throw InputError(fmt::format("{}: {} rows, but positions has {} (give {} to index them per corner)", valuesName, rows, vertexCount,
-                                         indicesName));
+            throw InputError(fmt::format("{}: {} rows, but positions has {} (give {} to index them per corner)", valuesName, rows,
+                                         vertexCount, indicesName));
         for (std::size_t i = 0; i < 3 * t; ++i) out[i] = static_cast<std::int32_t>(triangles.data()[i]);
         return out;
     }
@@ -192,7 +196,8 @@ void addCornerAttributes(Scene& scene, const CornerArrays& a, const py::array_t<
     const auto t = static_cast<std::size_t>(triangles.shape(0));
     if (!a.normals.is_none()) {
         const auto normals = floatRows(a.normals, "normals", 3);
-        const std::vector<std::int32_t> corner = cornerIndices(a.normalIndices, "normals", "normal_indices", normals.shape(0), triangles, v);
+        const std::vector<std::int32_t> corner =
+            cornerIndices(a.normalIndices, "normals", "normal_indices", normals.shape(0), triangles, v);
         scene.normals.resize(static_cast<std::size_t>(normals.shape(0)));
         for (std::size_t i = 0; i < scene.normals.size(); ++i) {
             const Vec3 n{normals.data()[3 * i], normals.data()[3 * i + 1], normals.data()[3 * i + 2]};
@@ -253,7 +258,8 @@ EnvironmentMap environmentMap(const py::dict& e) {
             rotation = finiteNumber(val, "environment.rotation");
         } else if (key == "filter") {
             const std::string f = val.cast<std::string>();
-            if (f != "bilinear" && f != "nearest") throw InputError(fmt::format("environment.filter '{}' is not \"bilinear\" or \"nearest\"", f));
+            if (f != "bilinear" && f != "nearest")
+                throw InputError(fmt::format("environment.filter '{}' is not \"bilinear\" or \"nearest\"", f));
             filter = f == "nearest" ? EnvironmentMap::Filter::Nearest : EnvironmentMap::Filter::Bilinear;
         } else {
             throw InputError(fmt::format("environment: unknown key '{}' (allowed: map, image, scale, rotation, filter)", key));
@@ -392,8 +398,9 @@ void bindFromArrays(py::class_<PyScene, std::shared_ptr<PyScene>>& cls) {
            const py::object& normalIndices, const py::object& uvs, const py::object& uvIndices, const py::object& tangents,
            const py::object& tangentIndices, const py::object& materials, const py::object& lights, const py::object& environment,
            const py::object& camera, const std::string& name) {
-            return fromArrays(positions, triangles, materialIds, CornerArrays{normals, normalIndices, uvs, uvIndices, tangents, tangentIndices},
-                              materials, lights, environment, camera, name);
+            return fromArrays(positions, triangles, materialIds,
+                              CornerArrays{normals, normalIndices, uvs, uvIndices, tangents, tangentIndices}, materials, lights,
+                              environment, camera, name);
         },
         py::arg("positions"), py::arg("triangles"), py::kw_only(), py::arg("material_ids") = py::none(), py::arg("normals") = py::none(),
         py::arg("normal_indices") = py::none(), py::arg("uvs") = py::none(), py::arg("uv_indices") = py::none(),

@@ -19,8 +19,8 @@ std::string shapeText(const py::array& a);
 py::array_t<double, py::array::c_style> floatRows(const py::handle& obj, const std::string& name, py::ssize_t cols);
 /// An integer array of shape (N, cols), (N,) when cols == 0, each value in [0, limit); ValueError naming
 /// the element and `limitName` for one out of range.
-py::array_t<std::int64_t, py::array::c_style> indexRows(const py::handle& obj, const std::string& name, py::ssize_t cols, std::int64_t limit,
-                                                        const std::string& limitName);
+py::array_t<std::int64_t, py::array::c_style> indexRows(const py::handle& obj, const std::string& name, py::ssize_t cols,
+                                                        std::int64_t limit, const std::string& limitName);
 double finiteNumber(const py::handle& v, const std::string& where);
 double nonNegative(const py::handle& v, const std::string& where);
 /// A colour: one number (grey) or 3 (a 4th, alpha, as Blender's RGBA sockets give it, is not read), each finite, >= 0.

@@ -51,7 +51,8 @@ TextureRef textureRef(const py::handle& spec, TextureEncoding encoding, const st
                 encoding = v.cast<bool>() ? TextureEncoding::Srgb : TextureEncoding::Linear;
             } else if (key == "transform") {
                 const py::array_t<double, py::array::c_style> t = floatRows(v, where + ".transform", 0);
-                if (t.size() != 6) throw InputError(fmt::format("{}.transform: expected 6 numbers (a, b, c, d, e, f), got {}", where, t.size()));
+                if (t.size() != 6)
+                    throw InputError(fmt::format("{}.transform: expected 6 numbers (a, b, c, d, e, f), got {}", where, t.size()));
                 std::copy(t.data(), t.data() + 6, ref.transform.begin());
             } else {
                 throw InputError(fmt::format("{}: unknown key '{}' (allowed: image, wrap, srgb, transform)", where, key));
@@ -72,10 +73,26 @@ TextureRef textureRef(const py::handle& spec, TextureEncoding encoding, const st
     return ref;
 }
 
-const std::set<std::string> kMaterialKeys = {
-    "name", "rho_d", "rho_s", "n", "emission", "base_color", "metallic", "specular", "roughness", "diffuse_texture", "specular_texture",
-    "exponent_texture", "base_color_texture", "metallic_roughness_texture", "emission_texture", "alpha_texture", "normal_texture",
-    "normal_scale", "bump_texture", "bump_scale"};
+const std::set<std::string> kMaterialKeys = {"name",
+                                             "rho_d",
+                                             "rho_s",
+                                             "n",
+                                             "emission",
+                                             "base_color",
+                                             "metallic",
+                                             "specular",
+                                             "roughness",
+                                             "diffuse_texture",
+                                             "specular_texture",
+                                             "exponent_texture",
+                                             "base_color_texture",
+                                             "metallic_roughness_texture",
+                                             "emission_texture",
+                                             "alpha_texture",
+                                             "normal_texture",
+                                             "normal_scale",
+                                             "bump_texture",
+                                             "bump_scale"};
 
 }  // namespace
 
@@ -90,7 +107,9 @@ Texture textureFromArray(const py::array& raw, TextureEncoding encoding, const s
         const auto a = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>::ensure(raw);
         return textureFrom8Bit(where, static_cast<int>(w), static_cast<int>(h), static_cast<int>(c), a.data(), encoding);
     }
-    if (kind != 'f') throw py::type_error(fmt::format("{}: expected a uint8 or float image array, got dtype {}", where, py::str(raw.dtype()).cast<std::string>()));
+    if (kind != 'f')
+        throw py::type_error(
+            fmt::format("{}: expected a uint8 or float image array, got dtype {}", where, py::str(raw.dtype()).cast<std::string>()));
     const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
     std::vector<float> texels(a.data(), a.data() + a.size());
     for (std::size_t i = 0; i < texels.size(); ++i)
@@ -115,11 +134,13 @@ PhongMaterial material(const py::handle& spec, std::size_t index, TextureTable& 
     const auto at = [&](const char* k) { return d[py::str(k)]; };
     const bool principled = has("base_color") || has("metallic") || has("specular") || has("roughness") || has("base_color_texture") ||
                             has("metallic_roughness_texture");
-    const bool phong = has("rho_d") || has("rho_s") || has("n") || has("diffuse_texture") || has("specular_texture") || has("exponent_texture");
+    const bool phong =
+        has("rho_d") || has("rho_s") || has("n") || has("diffuse_texture") || has("specular_texture") || has("exponent_texture");
     if (principled && phong)
-        throw InputError(fmt::format("{}: give either Phong keys (rho_d, rho_s, n, diffuse/specular/exponent_texture) or Principled ones "
-                                     "(base_color, metallic, specular, roughness, base_color/metallic_roughness_texture), not both",
-                                     where));
+        throw InputError(
+            fmt::format("{}: give either Phong keys (rho_d, rho_s, n, diffuse/specular/exponent_texture) or Principled ones "
+                        "(base_color, metallic, specular, roughness, base_color/metallic_roughness_texture), not both",
+                        where));
     PhongMaterial m;
     m.name = has("name") ? at("name").cast<std::string>() : fmt::format("material{}", index);
     MaterialTextures& tx = m.textures;
@@ -136,9 +157,11 @@ PhongMaterial material(const py::handle& spec, std::size_t index, TextureTable& 
             tx.metallic = std::clamp(metallic, 0.0, 1.0);
             tx.roughness = std::clamp(roughness, 0.0, 1.0);
             tx.specularF0 = Color(std::clamp(0.08 * specular, 0.0, 1.0));
-            if (has("base_color_texture")) tx.diffuse = textureRef(at("base_color_texture"), TextureEncoding::Srgb, w + "base_color_texture", table);
+            if (has("base_color_texture"))
+                tx.diffuse = textureRef(at("base_color_texture"), TextureEncoding::Srgb, w + "base_color_texture", table);
             if (has("metallic_roughness_texture"))
-                tx.metallicRoughness = textureRef(at("metallic_roughness_texture"), TextureEncoding::Linear, w + "metallic_roughness_texture", table);
+                tx.metallicRoughness =
+                    textureRef(at("metallic_roughness_texture"), TextureEncoding::Linear, w + "metallic_roughness_texture", table);
         }
     } else {
         m.rhoD = has("rho_d") ? colour(at("rho_d"), w + "rho_d") : Color(0.7);
@@ -146,7 +169,8 @@ PhongMaterial material(const py::handle& spec, std::size_t index, TextureTable& 
         m.exponent = has("n") ? nonNegative(at("n"), w + "n") : 1.0;
         if (has("diffuse_texture")) tx.diffuse = textureRef(at("diffuse_texture"), TextureEncoding::Srgb, w + "diffuse_texture", table);
         if (has("specular_texture")) tx.specular = textureRef(at("specular_texture"), TextureEncoding::Srgb, w + "specular_texture", table);
-        if (has("exponent_texture")) tx.exponent = textureRef(at("exponent_texture"), TextureEncoding::Linear, w + "exponent_texture", table);
+        if (has("exponent_texture"))
+            tx.exponent = textureRef(at("exponent_texture"), TextureEncoding::Linear, w + "exponent_texture", table);
     }
     if (has("emission")) m.emission = colour(at("emission"), w + "emission");
     if (has("emission_texture")) tx.emission = textureRef(at("emission_texture"), TextureEncoding::Srgb, w + "emission_texture", table);

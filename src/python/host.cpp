@@ -102,7 +102,8 @@ public:
         applySceneSettings(options_, scene_->scene(), scene_->spec(), pyschema::givenKeys(renderSchema(), kwargs));
         checkRenderOptions(options_);
         if (options_.progressive())
-            throw InputError("Progressive: time, target_error, pass_spp, checkpoint and resume are render()'s; here each advance() is a pass");
+            throw InputError(
+                "Progressive: time, target_error, pass_spp, checkpoint and resume are render()'s; here each advance() is a pass");
         try {
             estimator_ = makeEstimator(options_.estimator, options_.estimatorOptions);
         } catch (const std::invalid_argument& e) {
@@ -184,7 +185,8 @@ void registerHost(py::module_& m) {
             Color rhoD, rhoS;
             double n = 0;
             const auto rgb = baseColor.cast<std::vector<double>>();
-            if (rgb.size() != 3 && rgb.size() != 4) throw InputError(fmt::format("base_color: expected 3 numbers (RGB), got {}", rgb.size()));
+            if (rgb.size() != 3 && rgb.size() != 4)
+                throw InputError(fmt::format("base_color: expected 3 numbers (RGB), got {}", rgb.size()));
             const Color base(rgb[0], rgb[1], rgb[2]);
             if (!isFinite(base) || minComponent(base) < 0) throw InputError("base_color: every value must be finite and >= 0");
             for (const auto& [v, name] : {std::pair{metallic, "metallic"}, {specular, "specular"}, {roughness, "roughness"}})
@@ -217,16 +219,20 @@ bit for bit the image render() gives with that many samples of the same render (
 samples of the one before). The GIL is released meanwhile; Ctrl-C, or cancel() from another thread, stops a
 pass after the tiles in flight (the image then mixes counts: samples_reached says the least).
 Keywords are render()'s, without time, target_error, pass_spp, checkpoint and resume.)")
-        .def(py::init([](const py::object& scene, const py::kwargs& kwargs) { return std::make_unique<Progressive>(sceneArgument(scene), kwargs); }),
+        .def(py::init([](const py::object& scene, const py::kwargs& kwargs) {
+                 return std::make_unique<Progressive>(sceneArgument(scene), kwargs);
+             }),
              py::arg("scene"))
-        .def("advance", &Progressive::advance, py::arg("spp"), "advance(spp) -> (H, W, 3) float32 image with every pixel at min(spp, self.spp) samples")
+        .def("advance", &Progressive::advance, py::arg("spp"),
+             "advance(spp) -> (H, W, 3) float32 image with every pixel at min(spp, self.spp) samples")
         .def("cancel", &Progressive::cancel, "Stops the pass in progress after the tiles in flight (thread-safe).")
         .def_property_readonly("samples_reached", &Progressive::samplesReached, "samples per pixel every pixel has")
         .def_property_readonly("samples_done", &Progressive::samplesDone, "camera samples taken so far (for a progress bar)")
         .def_property_readonly("spp", &Progressive::spp)
         .def_property_readonly("width", &Progressive::width)
         .def_property_readonly("height", &Progressive::height)
-        .def("stats", &Progressive::stats, "dict: seconds, cpu_seconds, rays, samples, paths, bad_samples, spp_reached, estimator, sampler");
+        .def("stats", &Progressive::stats,
+             "dict: seconds, cpu_seconds, rays, samples, paths, bad_samples, spp_reached, estimator, sampler");
 }
 
 }  // namespace symphong
