@@ -12,7 +12,6 @@ Runs inside Blender (bpy) and needs NumPy (Debian's blender uses the system pyth
 
 import math
 
-import bpy
 import numpy as np
 
 # Blender (Z up) -> symphong / glTF (Y up): (x, y, z) -> (x, z, -y). A rotation: windings are kept.

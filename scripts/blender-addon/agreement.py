@@ -26,7 +26,6 @@ import time
 REPO = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "build" / "release" / "python"))
 sys.path.insert(0, str(REPO / "blender" / "tests"))
-import numpy as np  # noqa: E402
 import symphong  # noqa: E402
 from regions import ratio, regions  # noqa: E402
 
