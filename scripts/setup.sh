@@ -2,7 +2,8 @@
 # Sets symphong up on Debian 12: installs the Debian packages it needs (only those missing, with
 # apt-get, as root or through sudo; libstb-dev decodes PNG/JPEG/HDR textures; python3-matplotlib draws the plots of `symphong study`; pybind11,
 # python3-dev, NumPy and pytest build and test the Python module; Open MPI runs a render across
-# processes or machines; dpkg-dev, pip, setuptools and wheel make and test the Debian package and `pip install .`)
+# processes or machines; dpkg-dev, pip, setuptools and wheel make and test the Debian package and `pip install .`;
+# blender runs the Blender add-on's tests)
 # and builds the Release preset into
 # build/release (the program build/release/symphong, the module in build/release/python).
 set -euo pipefail
@@ -18,6 +19,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   dpkg-dev python3-pip python3-setuptools python3-wheel
   chromium chromium-driver python3-selenium  # the browser test of report.html
+  blender  # the Blender add-on's tests (tests/blender, CTest label blender; Debian's Blender 3.4 runs the system python3)
 )
 . scripts/install-missing.sh
 install_missing setup "${packages[@]}"

@@ -124,5 +124,9 @@ void registerRender(py::module_& m);
 void registerStudy(py::module_& m);
 void registerCompare(py::module_& m);
 void registerArrays(py::module_& m);
+/// principled_to_phong, render_settings, Progressive (python/host.cpp).
+void registerHost(py::module_& m);
+/// Scene.from_arrays (python/builder.cpp).
+void bindFromArrays(py::class_<PyScene, std::shared_ptr<PyScene>>& cls);
 
 }  // namespace symphong

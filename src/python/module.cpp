@@ -4,7 +4,9 @@
 // the GIL released (Ctrl-C cancels within a tile), and turns InputError into ValueError
 // (FileNotFoundError for a missing file) with the command line's message. It holds no rendering logic;
 // docs/python.md is its guide. Files: scene.cpp (Scene, load_scene), render.cpp, study.cpp (furnace,
-// study), arrays.cpp (NumPy images), this one (the module and its errors).
+// study), arrays.cpp (NumPy images), builder.cpp and builder_materials.cpp (scenes from arrays), host.cpp
+// (the Principled mapping, the settings schema as data, renders pass by pass: for the Blender add-on), this
+// one (the module and its errors).
 #include "io/input_error.h"
 #include "python/common.h"
 
@@ -48,4 +50,5 @@ PYBIND11_MODULE(symphong, m) {
     registerStudy(m);
     registerCompare(m);
     registerArrays(m);
+    registerHost(m);
 }

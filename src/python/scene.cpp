@@ -220,6 +220,7 @@ Scene(spec) is load_scene(spec). The acceleration structure is built on the firs
                 "RGB radiance arriving from directions that leave the scene");
     bindSceneArrays(cls);
     bindSceneEmitters(cls);
+    bindFromArrays(cls);
     cls.def(
            "info", [](const PyScene& s) { return describeScene(s.scene(), s.spec()); },
            "The text `symphong info` prints for this scene: triangles, bounds, camera, materials, lights, environment,\n"

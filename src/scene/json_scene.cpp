@@ -3,6 +3,7 @@
 // a typo never silently falls back to a default.
 #include "io/files.h"
 #include "io/input_error.h"
+#include "scene/json_lights.h"
 #include "scene/scene.h"
 #include "texture/texture_io.h"
 
@@ -77,9 +78,9 @@ Color nonNegativeColor(const json& j, const std::string& where, const std::strin
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
-/// One element of "lights" (docs/scene-format.md): a point, spot or directional light, or a quad light
-/// (two emissive triangles with a material of their own, named after the element).
-void addLight(Scene& scene, const json& j, const std::string& where, const std::string& path) {
+}  // namespace
+
+void addJsonLight(Scene& scene, const json& j, const std::string& where, const std::string& path) {
     if (!j.is_object() || !j.contains("type") || !j["type"].is_string())
         throw InputError(fmt::format("{}: {} must be an object with a \"type\": point, spot, directional or quad", path, where));
     const std::string type = j["type"].get<std::string>();
@@ -143,6 +144,8 @@ void addLight(Scene& scene, const json& j, const std::string& where, const std::
     }
     scene.lights.push_back(light);
 }
+
+namespace {
 
 /// "environment": {"map": file, "scale", "rotation", "filter"}: an HDR lat-long image
 /// (scene/environment_map.h), its file relative to the scene file's folder.
@@ -287,7 +290,7 @@ Scene loadJsonScene(const std::string& path) {
     }
     if (doc.contains("lights")) {
         if (!doc["lights"].is_array()) throw InputError(fmt::format("{}: \"lights\" must be an array of lights", path));
-        for (std::size_t i = 0; i < doc["lights"].size(); ++i) addLight(scene, doc["lights"][i], fmt::format("lights[{}]", i), path);
+        for (std::size_t i = 0; i < doc["lights"].size(); ++i) addJsonLight(scene, doc["lights"][i], fmt::format("lights[{}]", i), path);
     }
     if (doc.contains("materials")) overrideMaterials(scene, doc["materials"], path);
     // After the lights and materials: the automatic camera depends on whether anything emits.
