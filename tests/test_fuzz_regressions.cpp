@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const fs::path kRoot = fs::path(SYMPHONG_SOURCE_DIR "/tests/data/fuzz");
-const char* const kTargets[] = {"fuzz_obj", "fuzz_json", "fuzz_assimp", "fuzz_texture"};
+const char* const kTargets[] = {"fuzz_obj",        "fuzz_json",     "fuzz_assimp",  "fuzz_texture",
+                                "fuzz_ply",        "fuzz_checkpoint", "fuzz_settings", "fuzz_gltf_ext"};
 
 struct Input {
     std::string target;
@@ -72,6 +73,14 @@ std::string verdict(const Input& in) {
             problemText = problem(loadAssimpInput(dir, bytes));
         else if (in.target == "fuzz_texture")
             problemText = problem(decodeTextureInput(bytes));
+        else if (in.target == "fuzz_ply")
+            problemText = problem(loadPlyInput(dir, bytes));
+        else if (in.target == "fuzz_checkpoint")
+            problemText = problem(readCheckpointInput(dir, bytes));
+        else if (in.target == "fuzz_settings")
+            problemText = problem(loadSettingsInput(dir, bytes));
+        else if (in.target == "fuzz_gltf_ext")
+            problemText = problem(loadGltfExtInput(dir, bytes));
         else
             return "unknown target " + in.target;
         return problemText.empty() ? "" : "accepted, but breaks the loader's promise: " + problemText;
@@ -90,7 +99,7 @@ class FuzzRegression : public ::testing::TestWithParam<Input> {};
 
 TEST(FuzzRegressions, DirectoryHoldsInputs) {
     ASSERT_TRUE(fs::is_directory(kRoot)) << kRoot << " is missing";
-    EXPECT_FALSE(inputs().empty()) << "no files under " << kRoot << "/<target>/ (targets: fuzz_obj, fuzz_json, fuzz_assimp, fuzz_texture)";
+    EXPECT_FALSE(inputs().empty()) << "no files under " << kRoot << "/<target>/ (targets: fuzz_obj, fuzz_json, fuzz_assimp, fuzz_texture, fuzz_ply, fuzz_checkpoint, fuzz_settings, fuzz_gltf_ext)";
     // A file in a directory that names no target would never run (third-party/ holds findings inside
     // libraries that symphong cannot prevent, on purpose not run: its README.md says why).
     for (const auto& e : fs::directory_iterator(kRoot)) {
