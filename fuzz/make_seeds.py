@@ -343,7 +343,7 @@ put("fuzz_settings", "basic.json", '{"spp": 16, "width": 64, "height": 48, "esti
 put("fuzz_settings", "symmetric.json", '{"estimator": "symmetric-mix", "symmetric_mode": "spread", "symmetric_orbit": 2, '
     '"symmetric_n": 3, "split": 2, "first_bounce_stream": 3, "joint_first_bounce": true, "no_nee": true, "bump_shadowing": true}')
 put("fuzz_settings", "progressive.json", '{"time": 2.5, "target_error": 0.01, "target_region": [0, 0, 8, 8, 4, 4, 2, 2], '
-    '"pass_spp": 4, "checkpoint_interval": 30, "spp": 1024, "width": 32, "height": 32}')
+    '"pass_spp": 4, "spp": 1024, "width": 32, "height": 32}')
 put("fuzz_settings", "paper.json", '{"estimator": "paper", "paper_refined": true, "exr_half": true}')
 put("fuzz_settings", "out-of-range.json", '{"spp": 0, "width": 100000}')
 
