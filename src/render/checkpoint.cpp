@@ -9,9 +9,11 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 namespace symphong {
@@ -154,20 +156,36 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     nlohmann::json header;
     try {
         header = nlohmann::json::parse(line);
+        // The header's numbers are checked against their types before they are converted (a 1e30 read
+        // as an integer is undefined behaviour, a -1 read as unsigned a wrapped count; fuzz finding C1).
+        const auto count = [&](const char* key, std::uint64_t max) {
+            const nlohmann::json& v = header.at(key);
+            if (!v.is_number_unsigned() || v.get<std::uint64_t>() > max)
+                throw damaged(fmt::format("its header's {} is {}, not an integer from 0 to {}", key, v.dump(), max));
+            return v.get<std::uint64_t>();
+        };
+        const auto seconds = [&](const char* key) {
+            const nlohmann::json& v = header.at(key);
+            if (!v.is_number() || !(v.get<double>() >= 0) || !std::isfinite(v.get<double>()))
+                throw damaged(fmt::format("its header's {} is {}, not a number of seconds", key, v.dump()));
+            return v.get<double>();
+        };
         identity = {header.at("scene").get<std::string>(), header.at("scene_hash").get<std::string>(), header.at("settings")};
-        const int w = header.at("width").get<int>(), ht = header.at("height").get<int>();
-        const auto spp = header.at("spp").get<std::uint32_t>();
+        const auto w = static_cast<int>(count("width", std::numeric_limits<int>::max()));
+        const auto ht = static_cast<int>(count("height", std::numeric_limits<int>::max()));
+        const auto spp = static_cast<std::uint32_t>(count("spp", std::numeric_limits<std::uint32_t>::max()));
         if (w < 1 || ht < 1 || static_cast<long>(w) * ht > kMaxImagePixels || spp < 1)
             throw damaged("its image size or spp is out of range");
         requireImageMemory(w, ht);
         state = RenderState(w, ht, spp);
-        state.rays = header.at("rays").get<std::uint64_t>();
-        state.badSamples = header.at("bad_samples").get<std::uint64_t>();
-        state.samples = header.at("samples").get<std::uint64_t>();
-        state.seconds = header.at("seconds").get<double>();
+        constexpr std::uint64_t kAny = std::numeric_limits<std::uint64_t>::max();
+        state.rays = count("rays", kAny);
+        state.badSamples = count("bad_samples", kAny);
+        state.samples = count("samples", kAny);
+        state.seconds = seconds("seconds");
         // Written since the study measured cost by CPU time; an older checkpoint has neither.
-        state.paths = header.value("paths", state.samples);
-        state.cpuSeconds = header.value("cpu_seconds", 0.0);
+        state.paths = header.contains("paths") ? count("paths", kAny) : state.samples;
+        state.cpuSeconds = header.contains("cpu_seconds") ? seconds("cpu_seconds") : 0.0;
     } catch (const nlohmann::json::exception& e) {
         throw damaged(fmt::format("its header: {}", e.what()));
     }
@@ -189,6 +207,13 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     if (!in || checksum != h.value()) throw damaged("its checksum does not match its contents");
     for (std::uint32_t n : state.tileSamples)
         if (n > state.sppBound) throw damaged("a tile has more samples than the render's spp");
+    // What no render writes (the renderer discards non-finite samples; a sum of squares is >= 0), even
+    // under a matching checksum: a resumed render would carry it into every image (fuzz finding C2).
+    for (std::size_t i = 0; i < state.sum.size(); ++i)
+        if (!isFinite(state.sum[i]) || !isFinite(state.sumSq[i]) || !(minComponent(state.sumSq[i]) >= 0) ||
+            !std::isfinite(state.sumLuminanceSq[i]) || !(state.sumLuminanceSq[i] >= 0))
+            throw damaged(fmt::format("pixel ({}, {}) holds a sum that no render writes: not finite, or a negative sum of squares",
+                                      i % static_cast<std::size_t>(state.width), i / static_cast<std::size_t>(state.width)));
 }
 
 void requireSameRender(const std::string& path, const RenderIdentity& saved, const RenderIdentity& now) {
