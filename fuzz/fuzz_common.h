@@ -8,7 +8,11 @@
 // texels >= 0). The fuzzers abort on a broken promise, so libFuzzer saves the input; the test reports it.
 #pragma once
 
+#include "estimators/estimator.h"
 #include "io/input_error.h"
+#include "render/checkpoint.h"
+#include "render/renderer.h"
+#include "render/settings.h"
 #include "scene/scene.h"
 #include "texture/texture_io.h"
 
@@ -19,6 +23,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -165,6 +170,182 @@ inline Texture decodeTextureInput(std::string_view input) {
     return decodeTexture("input", reinterpret_cast<const unsigned char*>(input.data()) + 1, input.size() - 1, encoding);
 }
 
+// ---- fuzz_ply: the PLY file (symphong's own reader, scene/ply_loader.cpp) --------------------------------
+
+/// Writes "in.ply" into dir, emptied first, and loads it through loadScene.
+inline Scene loadPlyInput(const fs::path& dir, std::string_view input) {
+    clearDir(dir);
+    const fs::path path = dir / "in.ply";
+    writeBytes(path, input);
+    return loadScene(path.string());
+}
+
+// ---- fuzz_checkpoint: one byte of flags, then the checkpoint file (render/checkpoint.cpp) ---------------
+
+/// What readCheckpoint gave back.
+struct CheckpointRead {
+    RenderIdentity identity;
+    RenderState state;
+};
+
+/// render/checkpoint.cpp's checksum (a copy of its private Hasher: the file format's definition), so
+/// that the harness can make a mutated file's checksum right and the fuzzer gets past it to what the
+/// reader checks after it and what the renderer does with what it accepts.
+class CheckpointHasher {
+public:
+    void add(const void* data, std::size_t n) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        std::size_t i = 0;
+        for (; i + 32 <= n; i += 32) {
+            std::uint64_t w[4];
+            std::memcpy(w, p + i, 32);
+            for (int k = 0; k < 4; ++k) lane_[k] = mix(lane_[k], w[k]);
+        }
+        for (; i + 8 <= n; i += 8) {
+            std::uint64_t w;
+            std::memcpy(&w, p + i, 8);
+            lane_[0] = mix(lane_[0], w);
+        }
+        std::uint64_t tail = 0;
+        std::memcpy(&tail, p + i, n - i);
+        lane_[0] = mix(lane_[0], tail ^ (static_cast<std::uint64_t>(n - i) << 56));
+    }
+    std::uint64_t value() const {
+        std::uint64_t h = 0x243F6A8885A308D3ull;
+        for (std::uint64_t l : lane_) h = mix(h, l);
+        return h;
+    }
+
+private:
+    static std::uint64_t mix(std::uint64_t h, std::uint64_t w) {
+        h = (h ^ w) * 0x9E3779B97F4A7C15ull;
+        return h ^ (h >> 29);
+    }
+    std::uint64_t lane_[4] = {1, 2, 3, 4};
+};
+
+constexpr std::string_view kCheckpointMagic = "symphong checkpoint 1\n";
+
+/// The file with its last 8 bytes replaced by the checksum the writer would have put there, when the
+/// file has the magic line, a header line whose width and height are integers of a small image, and
+/// exactly the size that header calls for (tile counts, three sections of sums, checksum); otherwise
+/// the file as it is. Sections are hashed as the writer hashes them: magic, header line, then each
+/// section in one piece (files under 64 MiB).
+inline std::string withFixedChecksum(std::string file) {
+    if (file.compare(0, kCheckpointMagic.size(), kCheckpointMagic) != 0) return file;
+    const std::size_t eol = file.find('\n', kCheckpointMagic.size());
+    if (eol == std::string::npos) return file;
+    const std::size_t start = eol + 1;
+    const nlohmann::json header = nlohmann::json::parse(file.begin() + static_cast<std::ptrdiff_t>(kCheckpointMagic.size()),
+                                                        file.begin() + static_cast<std::ptrdiff_t>(start), nullptr, false);
+    if (!header.is_object() || !header.contains("width") || !header.contains("height")) return file;
+    const nlohmann::json &jw = header["width"], &jh = header["height"];
+    if (!jw.is_number_integer() || !jh.is_number_integer()) return file;
+    const std::int64_t w = jw.get<std::int64_t>(), h = jh.get<std::int64_t>();
+    if (w < 1 || h < 1 || w > 4096 || h > 4096 || w * h > (1 << 16)) return file;
+    const std::size_t pixels = static_cast<std::size_t>(w * h);
+    const std::size_t sections[4] = {static_cast<std::size_t>(tileCount(static_cast<int>(w), static_cast<int>(h))) * 4, pixels * 24,
+                                     pixels * 24, pixels * 8};
+    std::size_t end = start;
+    for (std::size_t n : sections) end += n;
+    if (file.size() != end + 8) return file;
+    CheckpointHasher hash;
+    hash.add(file.data(), kCheckpointMagic.size());
+    hash.add(file.data() + kCheckpointMagic.size(), start - kCheckpointMagic.size());
+    std::size_t at = start;
+    for (std::size_t n : sections) {
+        hash.add(file.data() + at, n);
+        at += n;
+    }
+    const std::uint64_t sum = hash.value();
+    std::memcpy(file.data() + end, &sum, 8);
+    return file;
+}
+
+/// Bit 0 of the first byte: make the checksum right (withFixedChecksum); the rest is the file, written
+/// as "in.ckpt" into dir (emptied first) and read through readCheckpoint. An accepted checkpoint is then
+/// used as `symphong render --resume` uses it: compared with the identity of a render (requireSameRender,
+/// whose InputError is the expected answer to another render's checkpoint) and turned into its image,
+/// variance and error. An empty input is an InputError.
+inline CheckpointRead readCheckpointInput(const fs::path& dir, std::string_view input) {
+    if (input.empty()) throw InputError("empty fuzz_checkpoint input (no flags byte)");
+    clearDir(dir);
+    std::string file(input.substr(1));
+    if (static_cast<unsigned char>(input[0]) & 1) file = withFixedChecksum(std::move(file));
+    const fs::path path = dir / "in.ckpt";
+    writeBytes(path, file);
+    CheckpointRead out;
+    readCheckpoint(path.string(), out.identity, out.state);
+    return out;
+}
+
+// ---- fuzz_settings: the value of a JSON scene's "render" key (render/settings.h) --------------------------
+
+/// What `symphong render` made of a scene's "render" settings.
+struct SettingsRead {
+    RenderOptions options;
+};
+
+/// Writes "in.json", {"builtin": "cornell", "render": INPUT}, into dir (emptied first), loads it and does
+/// what `symphong render in.json` does with its settings before it renders (cli/render_command.cpp,
+/// render/long_render.cpp): applySceneSettings under no command-line options, checkRenderOptions, the
+/// estimator (its std::invalid_argument is the command line's InputError), the stop rules and the
+/// renderer's settings.
+inline SettingsRead loadSettingsInput(const fs::path& dir, std::string_view input) {
+    clearDir(dir);
+    const fs::path path = dir / "in.json";
+    writeBytes(path, "{\"builtin\": \"cornell\", \"render\": " + std::string(input) + "\n}\n");
+    const Scene scene = loadScene(path.string());
+    SettingsRead out;
+    applySceneSettings(out.options, scene, path.string(), {});
+    checkRenderOptions(out.options);
+    try {
+        (void)makeEstimator(out.options.estimator, out.options.estimatorOptions);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("--estimator: ") + e.what());
+    }
+    (void)stopRules(out.options);
+    (void)renderSettings(out.options);
+    return out;
+}
+
+// ---- fuzz_gltf_ext: the "materials" of a glTF whose other parts are fixed (scene/assimp_materials.cpp) ----
+
+/// A 2x2 RGB PNG, the glTF's one image (tex.png beside it).
+constexpr unsigned char kTexPng[] = {
+    0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00, 0x00, 0x00,
+    0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x02, 0x00, 0x00, 0x00, 0xfd, 0xd4, 0x9a, 0x73, 0x00, 0x00, 0x00, 0x12, 0x49,
+    0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0xf8, 0xcf, 0xc0, 0xc0, 0x00, 0xc2, 0x0c, 0xff, 0x81, 0x00, 0x00, 0x1f, 0xee,
+    0x05, 0xfb, 0x0b, 0xd9, 0x68, 0x8b, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+
+/// One triangle with normals and texture coordinates (one 96-byte buffer), its primitive using material 0;
+/// textures 0 and 1 (tex.png, a sampler with REPEAT and MIRRORED_REPEAT); the materials are the input.
+constexpr std::string_view kGltfBeforeMaterials =
+    R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+"extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_materials_specular"],
+"meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "material": 0}]}],
+"buffers": [{"byteLength": 96, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAgD8AAIA/AACAPwAAAAAAAAAA"}],
+"bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36}, {"buffer": 0, "byteOffset": 72, "byteLength": 24}],
+"accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+              {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+              {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}],
+"samplers": [{"wrapS": 10497, "wrapT": 33648}],
+"images": [{"uri": "tex.png"}],
+"textures": [{"source": 0, "sampler": 0}, {"source": 0}],
+"materials": )";
+
+/// Writes "in.gltf" (the fixed glTF above, its "materials" the input) and tex.png into dir, emptied
+/// first, and loads it through loadScene: Assimp reads the glTF, symphong reads the materials' JSON
+/// beside it (metallic-roughness, KHR_texture_transform, KHR_materials_ior / _specular /
+/// _emissive_strength, normalTexture's scale, alphaMode).
+inline Scene loadGltfExtInput(const fs::path& dir, std::string_view input) {
+    clearDir(dir);
+    writeBytes(dir / "tex.png", std::string_view(reinterpret_cast<const char*>(kTexPng), sizeof kTexPng));
+    const fs::path path = dir / "in.gltf";
+    writeBytes(path, std::string(kGltfBeforeMaterials) + std::string(input) + "\n}\n");
+    return loadScene(path.string());
+}
+
 // ---- the promises of what a loader accepts ----------------------------------------------------------------
 
 inline bool nonNegativeFinite(const Color& c) { return isFinite(c) && minComponent(c) >= 0; }
@@ -259,7 +440,63 @@ inline std::string sceneProblem(const Scene& s) {
     return {};
 }
 
+/// What is wrong with a checkpoint readCheckpoint accepted, or "": its sections sized for its image and
+/// tiles, no tile past the spp, finite sums and non-negative sums of squares (the renderer discards
+/// non-finite samples, so a checkpoint it wrote has no other), then what a resumed render does with
+/// it: requireSameRender against another render (InputError, the expected answer, is caught here), the
+/// image and its variance, finite where the state is.
+inline std::string checkpointProblem(const CheckpointRead& c) {
+    const RenderState& s = c.state;
+    if (s.width < 1 || s.height < 1 || s.sppBound < 1) return "accepted a state of " + std::to_string(s.width) + " x " +
+                                                              std::to_string(s.height) + " at spp " + std::to_string(s.sppBound);
+    const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
+    if (s.sum.size() != pixels || s.sumSq.size() != pixels || s.sumLuminanceSq.size() != pixels ||
+        s.tileSamples.size() != static_cast<std::size_t>(tileCount(s.width, s.height)))
+        return "the sections are not sized for the image and its tiles";
+    for (std::uint32_t n : s.tileSamples)
+        if (n > s.sppBound) return "a tile has " + std::to_string(n) + " samples, past spp " + std::to_string(s.sppBound);
+    for (std::size_t i = 0; i < pixels; ++i)
+        if (!isFinite(s.sum[i]) || !nonNegativeFinite(s.sumSq[i]) || !(s.sumLuminanceSq[i] >= 0) || !std::isfinite(s.sumLuminanceSq[i]))
+            return "pixel " + std::to_string(i) + " has a non-finite sum or a negative or non-finite sum of squares";
+    if (!std::isfinite(s.seconds) || s.seconds < 0 || !std::isfinite(s.cpuSeconds) || s.cpuSeconds < 0)
+        return "accepted a render time that is not finite and >= 0";
+    RenderIdentity now{"cornell", "0123456789abcdef", nlohmann::json{{"spp", 64}, {"width", 512}}};
+    try {
+        requireSameRender("in.ckpt", c.identity, now);
+        requireSameRender("in.ckpt", c.identity, c.identity);
+    } catch (const InputError&) {
+    }
+    const Image image = s.image(), variance = s.variance();
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x)
+            if (!isFinite(image.at(x, y)) || !isFinite(variance.at(x, y)))
+                return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") of the resumed image or variance is not finite";
+    return {};
+}
+
+/// What is wrong with render options that were accepted, or "": within the schema's ranges as
+/// checkRenderOptions and the schema promise, and the same options again when written with toJson and
+/// read back with fromJson (what a checkpoint's identity and the study's config rely on).
+inline std::string settingsProblem(const SettingsRead& r) {
+    const RenderOptions& o = r.options;
+    if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384 || o.spp < 1)
+        return "accepted an image of " + std::to_string(o.width) + " x " + std::to_string(o.height) + " at spp " + std::to_string(o.spp);
+    if (!std::isfinite(o.exposure) || !std::isfinite(o.time) || o.time < 0 || !std::isfinite(o.targetError) || o.targetError < 0)
+        return "accepted a non-finite or negative exposure, time or target error";
+    const nlohmann::json written = schema::toJson(o, renderSchema());
+    RenderOptions again;
+    try {
+        schema::fromJson(written, again, renderSchema());
+    } catch (const std::invalid_argument& e) {
+        return std::string("accepted options that do not read back: ") + e.what() + " in " + written.dump();
+    }
+    if (schema::toJson(again, renderSchema()) != written) return "options read back differently: " + written.dump();
+    return {};
+}
+
 inline std::string problem(const Scene& s) { return sceneProblem(s); }
+inline std::string problem(const CheckpointRead& c) { return checkpointProblem(c); }
+inline std::string problem(const SettingsRead& r) { return settingsProblem(r); }
 inline std::string problem(const Texture& t) { return textureProblem(t); }
 
 /// The fuzzers' verdict on one input: returns when the loader accepts what keeps its promises or rejects

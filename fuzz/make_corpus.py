@@ -14,7 +14,12 @@ put in the target's input layout (fuzz/*.cpp say what that is):
 - fuzz_assimp: the mesh files on disk under tests/ and scenes/ (and docs/images/), the glTF literals of tests/*.cpp, and
   scenes/cornell-classic.obj exported by the assimp command line tool (when it is there) as glTF, GLB,
   PLY (text and binary), Collada, 3DS and FBX;
-- fuzz_texture: the image files on disk under tests/ and scenes/ and in docs/images/ (up to 64 KB each).
+- fuzz_texture: the image files on disk under tests/ and scenes/ and in docs/images/ (up to 64 KB each);
+- fuzz_ply: the .ply files on disk under tests/ and scenes/ (up to 256 KB), as they are;
+- fuzz_settings: the "render" objects of scenes/*.json and of the JSON literals of tests/*.cpp;
+- fuzz_gltf_ext: the "materials" of the .gltf files on disk under tests/ and scenes/ and of the glTF
+  literals of tests/*.cpp;
+- fuzz_checkpoint: its seeds only (fuzz/make_seeds.py writes checkpoints with their checksums).
 
 Files are named by their source and a content hash, so rerunning adds nothing twice.
 Usage: python3 fuzz/make_corpus.py OUT
@@ -34,7 +39,7 @@ SHARED = os.path.normpath(os.path.join(ROOT, "..", "shared", "scenes"))
 OUT = sys.argv[1]
 SEP = b"#==MTL==\n"
 EXT = {".gltf": 0, ".glb": 1, ".ply": 2, ".fbx": 3, ".dae": 4, ".3ds": 5}
-TARGETS = ["fuzz_obj", "fuzz_json", "fuzz_assimp", "fuzz_texture"]
+TARGETS = ["fuzz_obj", "fuzz_json", "fuzz_assimp", "fuzz_texture", "fuzz_ply", "fuzz_checkpoint", "fuzz_settings", "fuzz_gltf_ext"]
 added = {t: 0 for t in TARGETS}
 
 
@@ -113,6 +118,8 @@ for f in sorted(glob.glob(os.path.join(ROOT, "scenes", "*.json"))):
         doc = json.loads(text)
     except ValueError:
         continue
+    if isinstance(doc, dict) and isinstance(doc.get("render"), dict):
+        put("fuzz_settings", os.path.basename(f) + "-render", json.dumps(doc["render"]))
     if isinstance(doc, dict) and "obj" in doc:
         for target in ("floor.obj", "lamp.obj"):
             d = dict(doc, obj=target)
@@ -125,10 +132,14 @@ for s in raw_literals:
         continue
     if isinstance(doc, dict) and "asset" in doc:
         put("fuzz_assimp", "tests-literal.gltf", bytes([EXT[".gltf"]]) + s.encode())
+        if isinstance(doc.get("materials"), list):
+            put("fuzz_gltf_ext", "tests-literal-materials.json", json.dumps(doc["materials"]))
     elif isinstance(doc, list):
         put("fuzz_json", "tests-literal-lights.json", '{"obj": "floor.obj", "lights": ' + s + "}")
     else:
         put("fuzz_json", "tests-literal.json", s)
+        if isinstance(doc, dict) and isinstance(doc.get("render"), dict):
+            put("fuzz_settings", "tests-literal-render.json", json.dumps(doc["render"]))
         if isinstance(doc, dict) and doc.get("obj") not in (None, "floor.obj"):
             put("fuzz_json", "tests-literal-floor.json", scene_json(dict(doc, obj="floor.obj")))
 doc_md = open(os.path.join(ROOT, "docs", "scene-format.md"), encoding="utf-8").read()
@@ -153,6 +164,15 @@ for f in sorted(sum((glob.glob(g, recursive=True) for g in on_disk), [])):
     ext = os.path.splitext(f)[1].lower()
     if ext in EXT and os.path.getsize(f) <= 256 * 1024:
         put("fuzz_assimp", rel(f), bytes([EXT[ext]]) + open(f, "rb").read())
+        if ext == ".ply":
+            put("fuzz_ply", rel(f), open(f, "rb").read())
+        if ext == ".gltf":
+            try:
+                mats = json.loads(open(f, "rb").read()).get("materials")
+            except (ValueError, AttributeError):
+                mats = None
+            if isinstance(mats, list):
+                put("fuzz_gltf_ext", rel(f) + "-materials", json.dumps(mats))
     elif ext in (".png", ".jpg", ".jpeg", ".hdr", ".exr", ".bmp", ".tga") and os.path.getsize(f) <= 64 * 1024:
         put("fuzz_texture", rel(f), bytes([1 if ext in (".hdr", ".exr") else 0]) + open(f, "rb").read())
 

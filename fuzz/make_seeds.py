@@ -249,4 +249,119 @@ if cc and os.path.exists("/usr/include/stb/stb_image_write.h"):
             if subprocess.run([exe, a, b]).returncode == 0:
                 tex("rgb.jpg", open(a, "rb").read())
                 tex("gray.jpg", open(b, "rb").read(), linear=True)
+
+# ---- fuzz_ply: symphong's own PLY reader ----------------------------------------------------------
+PLY_V = "ply\nformat {fmt} 1.0\ncomment seed\nelement vertex {n}\nproperty float x\nproperty float y\nproperty float z\n"
+put("fuzz_ply", "tri-ascii.ply", PLY_V.format(fmt="ascii", n=3) +
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+put("fuzz_ply", "quad-normals-uv-ascii.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+    "property double z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\n"
+    "element face 1\nproperty list uint8 uint32 vertex_index\nend_header\n"
+    "0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3\n")
+put("fuzz_ply", "strips-restart-ascii.ply", PLY_V.format(fmt="ascii", n=5) +
+    "property uchar red\nelement tristrips 1\nproperty list int int vertex_indices\nelement extra 1\nproperty short w\nend_header\n"
+    "0 0 0 1\n1 0 0 2\n0 1 0 3\n1 1 0 4\n2 1 0 5\n6 0 1 2 -1 2 3\n7\n")
+verts = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+put("fuzz_ply", "tri-binary-le.ply", (PLY_V.format(fmt="binary_little_endian", n=3) +
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n").encode() + verts + struct.pack("<B3i", 3, 0, 1, 2))
+put("fuzz_ply", "tri-binary-be.ply", (PLY_V.format(fmt="binary_big_endian", n=3) +
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n").encode() +
+    struct.pack(">9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack(">B3i", 3, 0, 1, 2))
+put("fuzz_ply", "strip-binary-le.ply", ("ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float32 x\n"
+    "property float32 y\nproperty float32 z\nproperty float32 u\nproperty float32 v\nelement tristrips 1\n"
+    "property list int32 int32 vertex_indices\nend_header\n").encode() +
+    struct.pack("<20f", 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 1, 1, 0, 1, 1) + struct.pack("<5i", 4, 0, 1, 2, 3))
+
+# ---- fuzz_checkpoint: one flags byte (bit 0: the harness makes the checksum right), then the file ------
+# The checksum is render/checkpoint.cpp's Hasher; the layout is render/checkpoint.h's.
+M64 = (1 << 64) - 1
+
+
+def ck_mix(h, w):
+    h = ((h ^ w) * 0x9E3779B97F4A7C15) & M64
+    return h ^ (h >> 29)
+
+
+class CkHash:
+    def __init__(self):
+        self.lane = [1, 2, 3, 4]
+
+    def add(self, b):
+        i = 0
+        while i + 32 <= len(b):
+            for k in range(4):
+                self.lane[k] = ck_mix(self.lane[k], struct.unpack_from("<Q", b, i + 8 * k)[0])
+            i += 32
+        while i + 8 <= len(b):
+            self.lane[0] = ck_mix(self.lane[0], struct.unpack_from("<Q", b, i)[0])
+            i += 8
+        tail = int.from_bytes((b[i:] + b"\0" * 8)[:8], "little")
+        self.lane[0] = ck_mix(self.lane[0], tail ^ ((len(b) - i) << 56))
+
+    def value(self):
+        h = 0x243F6A8885A308D3
+        for l in self.lane:
+            h = ck_mix(h, l)
+        return h
+
+
+def checkpoint(w, h, spp, tiles_done, settings=None, extra=None):
+    import json as _json
+    tiles = ((w + 15) // 16) * ((h + 15) // 16)
+    px = w * h
+    header = {"scene": "cornell", "scene_hash": "0123456789abcdef",
+              "settings": settings if settings is not None else {"estimator": "phong", "sampler": "sobol", "spp": spp,
+                                                                 "width": w, "height": h, "seed": 1, "max_depth": 16},
+              "width": w, "height": h, "spp": spp, "samples_reached": tiles_done, "rays": 1000, "bad_samples": 0,
+              "samples": px * tiles_done, "paths": px * tiles_done, "seconds": 0.5, "cpu_seconds": 0.9}
+    header.update(extra or {})
+    magic = b"symphong checkpoint 1\n"
+    line = (_json.dumps(header, separators=(",", ":")) + "\n").encode()
+    sections = [struct.pack("<%dI" % tiles, *([tiles_done] * tiles)),
+                b"".join(struct.pack("<3d", 0.25 * tiles_done, 0.5 * tiles_done, 0.125 * (i % 7) * tiles_done) for i in range(px)),
+                b"".join(struct.pack("<3d", 0.0625 * tiles_done, 0.25 * tiles_done, 0.01 * (i % 7) * tiles_done) for i in range(px)),
+                b"".join(struct.pack("<d", 0.1 * tiles_done) for i in range(px))]
+    hsh = CkHash()
+    for part in [magic, line] + sections:
+        hsh.add(part)
+    return magic + line + b"".join(sections) + struct.pack("<Q", hsh.value())
+
+
+put("fuzz_checkpoint", "4x3-spp8-fixed.ckpt", b"\x01" + checkpoint(4, 3, 8, 4))
+put("fuzz_checkpoint", "4x3-spp8-as-written.ckpt", b"\x00" + checkpoint(4, 3, 8, 4))
+put("fuzz_checkpoint", "17x2-two-tiles-fixed.ckpt", b"\x01" + checkpoint(17, 2, 4, 1))
+put("fuzz_checkpoint", "2x2-finished-old-header.ckpt", b"\x01" + checkpoint(2, 2, 2, 2, extra={"paths": None, "cpu_seconds": None})
+    .replace(b',"paths":null', b"").replace(b',"cpu_seconds":null', b""))
+put("fuzz_checkpoint", "1x1-empty-settings.ckpt", b"\x01" + checkpoint(1, 1, 1, 0, settings={}))
+# A header that claims a size the file does not have: 64x64 with the sections of 4x3.
+put("fuzz_checkpoint", "header-claims-64x64.ckpt", b"\x00" + checkpoint(4, 3, 8, 4).replace(b'"width":4,"height":3', b'"width":64,"height":64'))
+
+# ---- fuzz_settings: the value of a JSON scene's "render" key ---------------------------------------
+put("fuzz_settings", "empty.json", "{}")
+put("fuzz_settings", "basic.json", '{"spp": 16, "width": 64, "height": 48, "estimator": "cosine", "sampler": "independent", '
+    '"max_depth": 4, "seed": 7, "threads": 1, "exposure": 1.5}')
+put("fuzz_settings", "symmetric.json", '{"estimator": "symmetric-mix", "symmetric_mode": "spread", "symmetric_orbit": 2, '
+    '"symmetric_n": 3, "split": 2, "first_bounce_stream": 3, "joint_first_bounce": true, "no_nee": true, "bump_shadowing": true}')
+put("fuzz_settings", "progressive.json", '{"time": 2.5, "target_error": 0.01, "target_region": [0, 0, 8, 8, 4, 4, 2, 2], '
+    '"pass_spp": 4, "spp": 1024, "width": 32, "height": 32}')
+put("fuzz_settings", "paper.json", '{"estimator": "paper", "paper_refined": true, "exr_half": true}')
+put("fuzz_settings", "out-of-range.json", '{"spp": 0, "width": 100000}')
+
+# ---- fuzz_gltf_ext: the "materials" of fuzz_gltf_ext's fixed glTF ---------------------------------------
+put("fuzz_gltf_ext", "plain.json", '[{"name": "m", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1], '
+    '"metallicFactor": 0.25, "roughnessFactor": 0.5}}]')
+put("fuzz_gltf_ext", "transform.json", '[{"name": "t", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": '
+    '{"KHR_texture_transform": {"offset": [0.25, 0.5], "rotation": 0.785, "scale": [2, 3], "texCoord": 0}}}, '
+    '"metallicRoughnessTexture": {"index": 1, "extensions": {"KHR_texture_transform": {"scale": [0.5, 0.5]}}}}, '
+    '"normalTexture": {"index": 1, "scale": 0.5, "extensions": {"KHR_texture_transform": {"offset": [1, 0]}}}, '
+    '"emissiveTexture": {"index": 0, "texCoord": 1}, "emissiveFactor": [1, 1, 1], "alphaMode": "MASK"}]')
+put("fuzz_gltf_ext", "specular-ior.json", '[{"name": "s", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], '
+    '"metallicFactor": 0, "roughnessFactor": 0.2}, "extensions": {"KHR_materials_ior": {"ior": 1.45}, '
+    '"KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1, 0.5, 0.25]}}}]')
+put("fuzz_gltf_ext", "emissive-strength.json", '[{"name": "e", "emissiveFactor": [1, 0.5, 0.25], "extensions": '
+    '{"KHR_materials_emissive_strength": {"emissiveStrength": 5}}, "alphaMode": "BLEND", '
+    '"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]')
+put("fuzz_gltf_ext", "two-materials.json", '[{"name": "a", "extensions": {"KHR_materials_specular": {"specularColorFactor": [0, 0, 0]}}}, '
+    '{"name": "b", "doubleSided": true}]')
+
 print("seeds in", OUT)

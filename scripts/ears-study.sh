@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-/tmp/ears-study} sampler=${2:-sobol}
-bin=build/release/symphong
+bin=${SYMPHONG_BIN:-build/release/symphong}  # SYMPHONG_BIN: a copy, so that rebuilding during the run changes nothing
 [ -x "$bin" ] || bash scripts/setup.sh
 scenes=(cornell scenes/cornell-glossy-100.json scenes/regime/sky-n10.json scenes/regime/small-n10.json
         scenes/regime/large-n100.json scenes/regime/albedo-diffuse.json)

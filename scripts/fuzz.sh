@@ -42,7 +42,7 @@ if [ $# -gt 0 ]; then
   targets=("$@")
 else
   targets=()
-  for t in fuzz_obj fuzz_json fuzz_assimp fuzz_texture; do
+  for t in fuzz_obj fuzz_json fuzz_assimp fuzz_texture fuzz_ply fuzz_checkpoint fuzz_settings fuzz_gltf_ext; do
     [ -x "$build/fuzz/$t" ] && targets+=("$t")
   done
 fi
@@ -93,7 +93,7 @@ for d in /dev/shm/symphong-fuzz-* "${TMPDIR:-/tmp}"/symphong-fuzz-*; do
 done
 
 # Summary: fork mode's last status line "#N: cov: C ft: F corp: K exec/s E oom/timeout/crash: a/b/c time: T".
-printf '\n%-13s %10s %8s %7s %7s %6s %6s %8s %5s\n' target execs exec/s cov ft corpus crash timeout oom
+printf '\n%-16s %10s %8s %7s %7s %6s %6s %8s %5s\n' target execs exec/s cov ft corpus crash timeout oom
 for t in "${targets[@]}"; do
   log="$build/logs/$t.log"
   line=$(grep -E '^#[0-9]+: cov: ' "$log" | tail -1 || true)
@@ -107,5 +107,5 @@ for t in "${targets[@]}"; do
   crashes=$(find "$build/artifacts/$t" -newer "$stamp" \( -name 'crash-*' -o -name 'leak-*' -o -name 'deadly*' \) | wc -l)
   timeouts=$(find "$build/artifacts/$t" -newer "$stamp" -name 'timeout-*' | wc -l)
   ooms=$(find "$build/artifacts/$t" -newer "$stamp" -name 'oom-*' | wc -l)
-  printf '%-13s %10s %8s %7s %7s %6s %6s %8s %5s\n' "$t" "${execs:-?}" "${eps:-?}" "${cov:-?}" "${ft:-?}" "$corpus" "$crashes" "$timeouts" "$ooms"
+  printf '%-16s %10s %8s %7s %7s %6s %6s %8s %5s\n' "$t" "${execs:-?}" "${eps:-?}" "${cov:-?}" "${ft:-?}" "$corpus" "$crashes" "$timeouts" "$ooms"
 done

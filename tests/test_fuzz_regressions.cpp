@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const fs::path kRoot = fs::path(SYMPHONG_SOURCE_DIR "/tests/data/fuzz");
-const char* const kTargets[] = {"fuzz_obj", "fuzz_json", "fuzz_assimp", "fuzz_texture"};
+const char* const kTargets[] = {"fuzz_obj",        "fuzz_json",     "fuzz_assimp",  "fuzz_texture",
+                                "fuzz_ply",        "fuzz_checkpoint", "fuzz_settings", "fuzz_gltf_ext"};
 
 struct Input {
     std::string target;
@@ -72,6 +73,14 @@ std::string verdict(const Input& in) {
             problemText = problem(loadAssimpInput(dir, bytes));
         else if (in.target == "fuzz_texture")
             problemText = problem(decodeTextureInput(bytes));
+        else if (in.target == "fuzz_ply")
+            problemText = problem(loadPlyInput(dir, bytes));
+        else if (in.target == "fuzz_checkpoint")
+            problemText = problem(readCheckpointInput(dir, bytes));
+        else if (in.target == "fuzz_settings")
+            problemText = problem(loadSettingsInput(dir, bytes));
+        else if (in.target == "fuzz_gltf_ext")
+            problemText = problem(loadGltfExtInput(dir, bytes));
         else
             return "unknown target " + in.target;
         return problemText.empty() ? "" : "accepted, but breaks the loader's promise: " + problemText;
@@ -90,7 +99,7 @@ class FuzzRegression : public ::testing::TestWithParam<Input> {};
 
 TEST(FuzzRegressions, DirectoryHoldsInputs) {
     ASSERT_TRUE(fs::is_directory(kRoot)) << kRoot << " is missing";
-    EXPECT_FALSE(inputs().empty()) << "no files under " << kRoot << "/<target>/ (targets: fuzz_obj, fuzz_json, fuzz_assimp, fuzz_texture)";
+    EXPECT_FALSE(inputs().empty()) << "no files under " << kRoot << "/<target>/ (targets: fuzz_obj, fuzz_json, fuzz_assimp, fuzz_texture, fuzz_ply, fuzz_checkpoint, fuzz_settings, fuzz_gltf_ext)";
     // A file in a directory that names no target would never run (third-party/ holds findings inside
     // libraries that symphong cannot prevent, on purpose not run: its README.md says why).
     for (const auto& e : fs::directory_iterator(kRoot)) {
@@ -149,4 +158,44 @@ TEST(ThirdPartyFindings, CrashesInsideAssimpAreInputErrors) {
     EXPECT_NE(run.err.find("crash.dae: Assimp"), std::string::npos) << run.err;
     std::error_code ec;
     fs::remove_all(dir, ec);
+}
+
+// Finding C1 (fuzz_checkpoint): a header number outside its type (rays 1e30 read as a 64-bit count,
+// width 4e9 read as an int) was converted anyway: undefined behaviour that clang's UBSan reports and
+// that a release build turns into whatever count the conversion gives. The generic replay above cannot
+// tell such a file from a good one where UBSan does not check float-to-integer conversions (gcc's
+// -fsanitize=undefined leaves them out), so here: each is refused with InputError naming the file, the
+// key and the value.
+TEST(FuzzRegressions, C1CheckpointHeaderNumbersOutsideTheirTypesAreRefused) {
+    using namespace symphong;
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"header-rays-1e30-outside-uint64.ckpt", "its header's rays is 1e+30"},
+        {"header-width-4e9-outside-int.ckpt", "its header's width is 4000000000.0"},
+    };
+    const fs::path dir = fuzz::scratchDir("regression");
+    for (const auto& [file, expected] : cases) {
+        const std::string bytes = readBytes(kRoot / "fuzz_checkpoint" / file);
+        try {
+            fuzz::readCheckpointInput(dir, bytes);
+            ADD_FAILURE() << file << " was accepted";
+        } catch (const InputError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("in.ckpt: not a usable checkpoint"), std::string::npos) << file << ": " << what;
+            EXPECT_NE(what.find(expected), std::string::npos) << file << ": " << what;
+        }
+    }
+}
+
+// Finding C2 (fuzz_checkpoint, with the harness making the checksum right): a checkpoint whose sums are
+// not finite, or whose sums of squares are negative, was accepted, and a resumed render would have
+// carried them into its image, variance and error. Refused, naming the pixel.
+TEST(FuzzRegressions, C2CheckpointSumsThatNoRenderWritesAreRefused) {
+    using namespace symphong;
+    const std::string bytes = readBytes(kRoot / "fuzz_checkpoint" / "sums-not-finite-under-a-matching-checksum.ckpt");
+    try {
+        fuzz::readCheckpointInput(fuzz::scratchDir("regression"), bytes);
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("holds a sum that no render writes"), std::string::npos) << e.what();
+    }
 }

@@ -22,6 +22,16 @@
 
 namespace symphong::test {
 
+/// True in the sanitizer build (debug-asan: SYMPHONG_TEST_SANITIZED, set by tests/CMakeLists.txt), where
+/// code runs 10 to 50 times slower: statistical tests that loop over many configurations run a subset
+/// of them there (every code path still, each configuration at its full sample count and so its full
+/// power), so that the sanitizers see the code without the CI run outgrowing its time.
+#if defined(SYMPHONG_TEST_SANITIZED)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
 /// ../shared/scenes beside the repository, or $SYMPHONG_SCENES. Empty when absent.
 inline std::string scenesDir() {
     if (const char* env = std::getenv("SYMPHONG_SCENES")) return env;

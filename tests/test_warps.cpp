@@ -7,6 +7,7 @@
 #include "sampling/distribution1d.h"
 #include "sampling/warp.h"
 #include "stats.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -131,7 +132,10 @@ TEST(EstimatorDirections, PhongMixtureFitsItsPdf) {
     struct Wo {
         double thetaDeg, phi;
     };
-    const std::vector<Wo> wos = {{0, 0}, {30, 0.3}, {30, 2.2}, {60, 0.3}, {60, 4.0}, {85, 0.3}, {85, 5.1}};
+    // Sanitized (test::kSanitized): three of the seven outgoing directions (normal, oblique, grazing),
+    // every exponent and both grids, each at the full sample count; the level below follows the runs made.
+    const std::vector<Wo> wos = test::kSanitized ? std::vector<Wo>{{0, 0}, {60, 4.0}, {85, 0.3}}
+                                                 : std::vector<Wo>{{0, 0}, {30, 0.3}, {30, 2.2}, {60, 0.3}, {60, 4.0}, {85, 0.3}, {85, 5.1}};
     struct Mat {
         double rhoD, rhoS, n;
     };

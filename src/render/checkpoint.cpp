@@ -9,9 +9,11 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 namespace symphong {
@@ -127,15 +129,24 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
         if (a.size() != 3) throw std::invalid_argument(fmt::format("ears {}: 3 numbers expected", key));
         return Vec3(a[0], a[1], a[2]);
     };
-    ears::Learning l(ears::Grid::fromBox(vec("lo"), vec("hi")));
-    l.epoch = j.at("epoch").get<int>();
-    l.raysAtStart = j.at("rays_at_start").get<std::uint64_t>();
-    l.samplesAtStart = j.at("samples_at_start").get<std::uint64_t>();
-    const auto factorCells = j.at("factor_cells").get<std::size_t>(), sumCells = j.at("sum_cells").get<std::size_t>();
-    if (l.epoch < 0 || l.epoch > 32 || factorCells > ears::Grid::cellCount() || sumCells > ears::Grid::cellCount())
+    // Counts are checked against their types before they are converted (as the header's, fuzz finding C1).
+    const auto count = [&](const char* key) {
+        if (!j.at(key).is_number_unsigned()) throw std::invalid_argument(fmt::format("ears {}: {} is not a count", key, j.at(key).dump()));
+        return j.at(key).get<std::uint64_t>();
+    };
+    const Vec3 lo = vec("lo"), hi = vec("hi");
+    if (!isFinite(lo) || !isFinite(hi) || !(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z))
+        throw std::invalid_argument("ears: its grid's box is empty or not finite");
+    ears::Learning l(ears::Grid::fromBox(lo, hi));
+    const std::uint64_t epoch = count("epoch"), factorCells = count("factor_cells"), sumCells = count("sum_cells");
+    l.raysAtStart = count("rays_at_start");
+    l.samplesAtStart = count("samples_at_start");
+    if (epoch > 32 || factorCells > ears::Grid::cellCount() || sumCells > ears::Grid::cellCount())
         throw std::invalid_argument("ears: epoch or cell counts out of range");
+    l.epoch = static_cast<int>(epoch);
     if (j.at("has_factors").get<bool>()) {
         l.factors.scale = j.at("scale").get<double>();
+        if (!std::isfinite(l.factors.scale) || l.factors.scale < 0) throw std::invalid_argument("ears: its scale is not a finite number >= 0");
         l.factors.varianceRatio.assign(ears::Grid::cellCount(), -1.0f);
         l.factors.momentRatio.assign(ears::Grid::cellCount(), -1.0f);
     }
@@ -244,20 +255,36 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     EarsSections ears;
     try {
         header = nlohmann::json::parse(line);
+        // The header's numbers are checked against their types before they are converted (a 1e30 read
+        // as an integer is undefined behaviour, a -1 read as unsigned a wrapped count; fuzz finding C1).
+        const auto count = [&](const char* key, std::uint64_t max) {
+            const nlohmann::json& v = header.at(key);
+            if (!v.is_number_unsigned() || v.get<std::uint64_t>() > max)
+                throw damaged(fmt::format("its header's {} is {}, not an integer from 0 to {}", key, v.dump(), max));
+            return v.get<std::uint64_t>();
+        };
+        const auto seconds = [&](const char* key) {
+            const nlohmann::json& v = header.at(key);
+            if (!v.is_number() || !(v.get<double>() >= 0) || !std::isfinite(v.get<double>()))
+                throw damaged(fmt::format("its header's {} is {}, not a number of seconds", key, v.dump()));
+            return v.get<double>();
+        };
         identity = {header.at("scene").get<std::string>(), header.at("scene_hash").get<std::string>(), header.at("settings")};
-        const int w = header.at("width").get<int>(), ht = header.at("height").get<int>();
-        const auto spp = header.at("spp").get<std::uint32_t>();
+        const auto w = static_cast<int>(count("width", std::numeric_limits<int>::max()));
+        const auto ht = static_cast<int>(count("height", std::numeric_limits<int>::max()));
+        const auto spp = static_cast<std::uint32_t>(count("spp", std::numeric_limits<std::uint32_t>::max()));
         if (w < 1 || ht < 1 || static_cast<long>(w) * ht > kMaxImagePixels || spp < 1)
             throw damaged("its image size or spp is out of range");
         requireImageMemory(w, ht);
         state = RenderState(w, ht, spp);
-        state.rays = header.at("rays").get<std::uint64_t>();
-        state.badSamples = header.at("bad_samples").get<std::uint64_t>();
-        state.samples = header.at("samples").get<std::uint64_t>();
-        state.seconds = header.at("seconds").get<double>();
+        constexpr std::uint64_t kAny = std::numeric_limits<std::uint64_t>::max();
+        state.rays = count("rays", kAny);
+        state.badSamples = count("bad_samples", kAny);
+        state.samples = count("samples", kAny);
+        state.seconds = seconds("seconds");
         // Written since the study measured cost by CPU time; an older checkpoint has neither.
-        state.paths = header.value("paths", state.samples);
-        state.cpuSeconds = header.value("cpu_seconds", 0.0);
+        state.paths = header.contains("paths") ? count("paths", kAny) : state.samples;
+        state.cpuSeconds = header.contains("cpu_seconds") ? seconds("cpu_seconds") : 0.0;
         if (header.contains("ears")) state.ears = earsFromHeader(header.at("ears"), ears);
     } catch (const nlohmann::json::exception& e) {
         throw damaged(fmt::format("its header: {}", e.what()));
@@ -283,6 +310,13 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     for (std::uint32_t n : state.tileSamples)
         if (n > state.sppBound) throw damaged("a tile has more samples than the render's spp");
     if (state.ears && !unpackEars(ears, *state.ears)) throw damaged("its learned splitting names a cell out of range");
+    // What no render writes (the renderer discards non-finite samples; a sum of squares is >= 0), even
+    // under a matching checksum: a resumed render would carry it into every image (fuzz finding C2).
+    for (std::size_t i = 0; i < state.sum.size(); ++i)
+        if (!isFinite(state.sum[i]) || !isFinite(state.sumSq[i]) || !(minComponent(state.sumSq[i]) >= 0) ||
+            !std::isfinite(state.sumLuminanceSq[i]) || !(state.sumLuminanceSq[i] >= 0))
+            throw damaged(fmt::format("pixel ({}, {}) holds a sum that no render writes: not finite, or a negative sum of squares",
+                                      i % static_cast<std::size_t>(state.width), i / static_cast<std::size_t>(state.width)));
 }
 
 void requireSameRender(const std::string& path, const RenderIdentity& saved, const RenderIdentity& now) {

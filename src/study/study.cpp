@@ -263,7 +263,9 @@ bool StudyRun::runSpp(std::uint32_t spp) {
             outcome_.cancelled = !renderRepeat(spp, ei, rep, *estimators[ei]);
             ++rowIndex_;
         }
-        if (writer_ && !outcome_.cancelled) writer_->writeResults(outcome_, ref_);
+        // Not after the last round: its groups are whole but their group columns are filled below, and a
+        // resume keeps whole groups as they are on disk (a kill in between left zeros there).
+        if (writer_ && !outcome_.cancelled && rep + 1 < c_.repeats) writer_->writeResults(outcome_, ref_);
     }
     for (std::size_t ei = 0; ei < variants_.size() && !outcome_.cancelled; ++ei) {
         if (!estimators[ei]) continue;

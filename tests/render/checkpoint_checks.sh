@@ -17,6 +17,16 @@
 #                 a finished checkpoint gives its image at once
 #   study-resume  a study stopped by SIGINT while rendering its reference writes reference.ckpt; --resume
 #                 resumes it and ends with the rows of an uninterrupted study (times aside)
+#   study-kill    a study killed with SIGKILL at pseudo-random moments (a fixed sequence of delays and of
+#                 rows to wait for, so kills land in the reference and among the rows) and resumed each
+#                 time with --resume ends with the rows of an uninterrupted study (times aside)
+#   unwritable    the output directory becomes unwritable while a render with checkpoints runs: exit 2,
+#                 one error naming the checkpoint, no temporary file left, and the last checkpoint intact
+#                 (it resumes to the uninterrupted render's EXR). How: a tmpfs with room for one
+#                 checkpoint, mounted in a private mount namespace (unshare -m as root, unshare -Urm
+#                 otherwise), so the second checkpoint finds the disk full; where no namespace can be
+#                 made, the directory is made read-only with chmod (not root) or replaced by a file
+#                 (root, whom chmod does not stop) once the first checkpoint is there
 #   stop-rules    --time stops with "time limit" and fewer samples than --spp; --target-error stops with
 #                 "target error"
 set -euo pipefail
@@ -192,6 +202,126 @@ for x, y in zip(a, b):
     for k in x:
         assert k in timing or x[k] == y[k], (k, x[k], y[k])
 PY
+  ;;
+study-kill)
+  study=(study cornell -e cosine,phong --spp 2,8 -R 3 -W 24 -H 24 --reference-spp 2000 --no-plots --no-page -t 2)
+  "$bin" "${study[@]}" -o whole >/dev/null 2>err || fail "the uninterrupted study failed: $(cat err)"
+  rows=$(($(wc -l <whole/results.csv) - 1))
+  # Each attempt runs the study with --resume and kills it with SIGKILL: attempt 1 after a delay within
+  # the reference, the others once results.csv holds a pseudo-random number of rows (0 to all but one)
+  # plus a pseudo-random 0-40 ms, so kills land in the reference, between rows and in the middle of a
+  # row's render or of the writing of results; the attempt that finishes before its kill ends the loop.
+  python3 - "$rows" "$bin" "${study[@]}" -o parts --resume <<'PY' || fail "the kills and resumes went wrong (above)"
+import os, random, signal, subprocess, sys, time
+rows, cmd = int(sys.argv[1]), sys.argv[2:]
+rng = random.Random(20261203)
+def rows_done():
+    try:
+        with open("parts/results.csv") as f:
+            return max(0, sum(1 for _ in f) - 1)
+    except OSError:
+        return 0
+kills = 0
+for attempt in range(1, 16):
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=open("err", "w"))
+    if attempt == 1:
+        wait_rows, delay = 0, rng.uniform(0.05, 0.6)
+    else:
+        wait_rows, delay = rng.randint(0, rows - 1), rng.uniform(0.0, 0.04)
+    deadline = time.monotonic() + 600
+    while p.poll() is None and rows_done() < wait_rows and time.monotonic() < deadline:
+        time.sleep(0.001)
+    start = time.monotonic()
+    while p.poll() is None and time.monotonic() - start < delay:
+        time.sleep(0.001)
+    if p.poll() is None:
+        p.send_signal(signal.SIGKILL)
+    rc = p.wait()
+    print(f"attempt {attempt}: waited for {wait_rows} rows + {delay:.3f} s: exit {rc}, {rows_done()} rows kept")
+    if rc == 0:
+        break
+    if rc != -signal.SIGKILL:
+        sys.exit(f"attempt {attempt}: exit code {rc}: {open('err').read()}")
+    kills += 1
+if kills < 3:
+    sys.exit(f"only {kills} kills landed before the study finished: too few to test anything")
+if rc != 0:
+    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if r.returncode != 0:
+        sys.exit(f"the last resume failed: {r.stderr}")
+PY
+  [ ! -e parts/reference.ckpt ] || fail "the finished reference's checkpoint was left behind"
+  cmp whole/reference.exr parts/reference.exr || fail "the reference after kills differs from the uninterrupted one"
+  python3 - whole/results.json parts/results.json <<'PY' || fail "the rows differ from the uninterrupted study's"
+import json, sys
+timing = {"seconds", "cpu_seconds", "cost", "rays", "efficiency", "efficiency_relmse"}
+a, b = (json.load(open(f))["rows"] for f in sys.argv[1:3])
+assert len(a) == len(b), (len(a), len(b))
+for x, y in zip(a, b):
+    assert set(x) == set(y), (sorted(x), sorted(y))
+    for k in x:
+        assert k in timing or x[k] == y[k], (k, x[k], y[k])
+PY
+  ;;
+unwritable)
+  reference ref.exr --spp 256
+  args=("${base[@]}" --spp 256 --pass-spp 1 --checkpoint-interval 0.01)
+  # The sizes of a checkpoint and of an image of this render (one pass of it, stopped by --time).
+  "$bin" "${args[@]}" --time 1e-9 --checkpoint one.ckpt -o one.exr >/dev/null
+  ckpt=$(stat -c %s one.ckpt) img=$(stat -c %s one.exr)
+  mkdir out
+  if [ "$(id -u)" -eq 0 ]; then ns=(unshare -m); else ns=(unshare -Urm); fi
+  if "${ns[@]}" true 2>/dev/null && "${ns[@]}" sh -c 'mount -t tmpfs -o size=64k tmpfs out' 2>/dev/null; then
+    # A full disk: room for one checkpoint, the preview image and half a checkpoint (every write goes to a
+    # temporary file first, so the second checkpoint needs a second checkpoint's room), in kilobytes.
+    kb=$(((ckpt + img + ckpt / 2) / 1024 + 1))
+    how="a full tmpfs of $kb KB"
+    rc=0
+    "${ns[@]}" bash -c 'mount -t tmpfs -o size="$1"k tmpfs out || exit 99
+      shift
+      rc=0
+      "$@" --checkpoint out/c.ckpt -o out/out.exr >stdout 2>err || rc=$?
+      cp out/c.ckpt kept.ckpt 2>/dev/null
+      ls -A out >left
+      exit "$rc"' -- "$kb" "$bin" "${args[@]}" || rc=$?
+    [ "$rc" -ne 99 ] || fail "the tmpfs could be mounted once but not again"
+  else
+    # No mount namespace here: the directory becomes unwritable once the first checkpoint is in it.
+    "$bin" "${args[@]}" --checkpoint out/c.ckpt -o out/out.exr >stdout 2>err &
+    pid=$!
+    for _ in $(seq 1 3000); do
+      [ -e out/c.ckpt ] && break
+      sleep 0.01
+    done
+    [ -e out/c.ckpt ] || fail "no first checkpoint after 30 s: $(cat err)"
+    if [ "$(id -u)" -ne 0 ]; then
+      how="chmod a-w"
+      chmod a-w out
+    else
+      how="the directory replaced by a file"
+      mv out out.moved && echo "not a directory" >out
+    fi
+    rc=0
+    wait "$pid" || rc=$?
+    if [ -d out.moved ]; then mv out.moved out.dir; else chmod u+w out; mv out out.dir; fi
+    cp out.dir/c.ckpt kept.ckpt
+    ls -A out.dir >left
+  fi
+  [ "$rc" -eq 2 ] || fail "$how: exit code $rc, expected 2: $(cat err)"
+  [ "$(grep -c 'error:' err)" -eq 1 ] || fail "$how: expected one error on stderr, got: $(cat err)"
+  grep -q "out/c.ckpt: cannot write\|out/out.exr: cannot write" err || fail "$how: the error does not name what could not be written: $(cat err)"
+  # A full disk lets the temporary file be removed; a directory that became read-only (or went away)
+  # while a checkpoint was being written cannot have it removed, and that is all it may leave.
+  if [ "$how" != "chmod a-w" ] && [ "$how" != "the directory replaced by a file" ]; then
+    ! grep -q '\.tmp-' left || fail "$how: a temporary file was left in the directory: $(cat left)"
+  fi
+  ! grep -v -q -E '^(c\.ckpt|out\.exr|\.c\.ckpt\.tmp-[0-9]+|\.out\.exr\.tmp-[0-9]+)$' left || fail "$how: unexpected files: $(cat left)"
+  [ -s kept.ckpt ] || fail "$how: no checkpoint left: $(cat left)"
+  # The last checkpoint is whole: it resumes (checksum and size checked) to the uninterrupted render.
+  "$bin" "${args[@]}" --checkpoint kept.ckpt --resume -o resumed.exr >/dev/null 2>err || fail "$how: the kept checkpoint does not resume: $(cat err)"
+  grep -q "resuming from kept.ckpt" err || fail "$how: the resume did not start from the kept checkpoint: $(cat err)"
+  cmp ref.exr resumed.exr || fail "$how: resumed from the kept checkpoint, the EXR differs from the uninterrupted one"
+  echo "($how)"
   ;;
 stop-rules)
   "$bin" "${base[@]}" --spp 1000000 --time 1 -o t.exr >out
