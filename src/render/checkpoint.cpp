@@ -70,6 +70,16 @@ void inBlocks(const void* data, std::size_t n, Fn&& fn) {
 
 std::string hex(std::uint64_t v) { return fmt::format("{:016x}", v); }
 
+/// The first pixel whose sums no render writes (the renderer discards non-finite samples; a sum of squares
+/// is >= 0): a resumed render would carry it into every image. sum.size() when there is none.
+std::size_t firstUnwrittenSum(const RenderState& state) {
+    for (std::size_t i = 0; i < state.sum.size(); ++i)
+        if (!isFinite(state.sum[i]) || !isFinite(state.sumSq[i]) || !(minComponent(state.sumSq[i]) >= 0) ||
+            !std::isfinite(state.sumLuminanceSq[i]) || !(state.sumLuminanceSq[i] >= 0))
+            return i;
+    return state.sum.size();
+}
+
 /// --splitting ears's learning (render/render_state.h) as sections: the cells that have factors and the
 /// cells that have sums, each cell's number then its values. Empty when the render does not learn.
 struct EarsSections {
@@ -310,13 +320,10 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     for (std::uint32_t n : state.tileSamples)
         if (n > state.sppBound) throw damaged("a tile has more samples than the render's spp");
     if (state.ears && !unpackEars(ears, *state.ears)) throw damaged("its learned splitting names a cell out of range");
-    // What no render writes (the renderer discards non-finite samples; a sum of squares is >= 0), even
-    // under a matching checksum: a resumed render would carry it into every image (fuzz finding C2).
-    for (std::size_t i = 0; i < state.sum.size(); ++i)
-        if (!isFinite(state.sum[i]) || !isFinite(state.sumSq[i]) || !(minComponent(state.sumSq[i]) >= 0) ||
-            !std::isfinite(state.sumLuminanceSq[i]) || !(state.sumLuminanceSq[i] >= 0))
-            throw damaged(fmt::format("pixel ({}, {}) holds a sum that no render writes: not finite, or a negative sum of squares",
-                                      i % static_cast<std::size_t>(state.width), i / static_cast<std::size_t>(state.width)));
+    // What no render writes, even under a matching checksum (fuzz finding C2).
+    if (const std::size_t i = firstUnwrittenSum(state); i < state.sum.size())
+        throw damaged(fmt::format("pixel ({}, {}) holds a sum that no render writes: not finite, or a negative sum of squares",
+                                  i % static_cast<std::size_t>(state.width), i / static_cast<std::size_t>(state.width)));
 }
 
 void requireSameRender(const std::string& path, const RenderIdentity& saved, const RenderIdentity& now) {
