@@ -115,7 +115,7 @@ TEST(EarsSchedule, EpochsDoubleAfterTheFirstTwoSamples) {
 
 TEST(EarsGrid, EveryLevelCoversTheBoxAndTheFinestKnownCellIsChosen) {
     const ears::Grid grid(Vec3(-1, 0, 2), Vec3(1, 4, 3));
-    EXPECT_EQ(ears::Grid::cellCount(), 8u * 8 * 8 + 16u * 16 * 16 + 32u * 32 * 32 + 64u * 64 * 64);
+    EXPECT_EQ(ears::Grid::cellCount(), 4u * 4 * 4 + 8u * 8 * 8 + 16u * 16 * 16 + 32u * 32 * 32);
     std::size_t first = 0;
     for (int level = 0; level < ears::Grid::kLevels; ++level) {
         const std::size_t r = static_cast<std::size_t>(ears::Grid::kResolution[static_cast<std::size_t>(level)]);
@@ -123,6 +123,13 @@ TEST(EarsGrid, EveryLevelCoversTheBoxAndTheFinestKnownCellIsChosen) {
         EXPECT_EQ(grid.cell(Vec3(1, 4, 3), level), first + r * r * r - 1);   // the high corner
         EXPECT_EQ(grid.cell(Vec3(-50, 99, 2.5), level), grid.cell(Vec3(-1, 4, 2.5), level));  // outside: the nearest
         first += r * r * r;
+    }
+    // A finest cell's ancestor at every level is the cell that level gives its points (checked at points
+    // all over the box, against the cell computed from the position itself).
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 q(-1 + 2 * std::fmod(i * 0.6180339887, 1.0), 4 * std::fmod(i * 0.7548776662, 1.0), 2 + std::fmod(i * 0.5698402910, 1.0));
+        const std::size_t finest = grid.cell(q, ears::Grid::kLevels - 1);
+        for (int level = 0; level < ears::Grid::kLevels; ++level) ASSERT_EQ(ears::Grid::ancestor(finest, level), grid.cell(q, level)) << i;
     }
     ears::Factors f;
     f.varianceRatio.assign(ears::Grid::cellCount(), -1.0f);
@@ -136,16 +143,59 @@ TEST(EarsGrid, EveryLevelCoversTheBoxAndTheFinestKnownCellIsChosen) {
 }
 
 TEST(EarsLearn, RatiosAreTheCellsVarianceAndMomentOverCost) {
-    std::vector<ears::CellSums> sums(3);
+    std::vector<ears::CellSums> sums(ears::Learning::sumCount());
     for (int i = 0; i < 40; ++i) sums[0].add(i % 2 ? 3.0 : 1.0, 4);  // mean 2, M = 5, v = 1 x 40/39, cost 4
     for (int i = 0; i < 5; ++i) sums[1].add(1.0, 1);                 // too few to say
-    const ears::Factors f = ears::learnFactors(sums, 6.0, 1.5);
-    EXPECT_DOUBLE_EQ(f.scale, std::sqrt(6.0 / 1.5));
+    const ears::Factors f = ears::learnFactors(sums, {6.0, 1.5, 1000});
+    EXPECT_DOUBLE_EQ(f.scale, std::sqrt(6.0 / 1.5));  // no first-hit cells: the measured sqrt(C / V)
     EXPECT_NEAR(f.momentRatio[0], std::sqrt(5.0 / 4), 1e-6);
     EXPECT_NEAR(f.varianceRatio[0], std::sqrt(40.0 / 39 / 4), 1e-6);
     EXPECT_LT(f.momentRatio[1], 0);
     EXPECT_LT(f.momentRatio[2], 0);
-    EXPECT_TRUE(ears::learnFactors(sums, 6.0, 0.0).empty());  // an image without variance: nothing to learn
+    EXPECT_TRUE(ears::learnFactors(sums, {6.0, 0.0, 1000}).empty());  // an image without variance: nothing to learn
+}
+
+// The first hit's factors, solved at once: an epoch of N camera samples whose first hits fall in two
+// finest cells with known within-vertex variance v_c, rays per continuation C_c and vertices per sample
+// n_c, rendered at q_old = 2 in both; V and C as that epoch measures them from V0 and C0. The learned q_c
+// equal the model's optimum sqrt(C0 / V0) sqrt(v_c / C_c) (d(V C)/dq_c = 0 for every cell), whatever q_old
+// was, and a brute-force search of V x C finds no lower point.
+TEST(EarsLearn, FirstHitFactorsAreTheModelsOptimumInOneEpoch) {
+    const ears::Grid grid(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    const double N = 1000, v0 = 0.2, c0 = 2;  // optimum q 4.47 and 2.24: neither clamped
+    struct Cell { Vec3 p; double n, v, cost; };
+    const std::vector<Cell> cells = {{Vec3(0.1, 0.1, 0.1), 0.6, 4.0, 2.0}, {Vec3(0.9, 0.8, 0.7), 0.3, 0.5, 1.0}};
+    std::vector<ears::CellSums> sums(ears::Learning::sumCount());
+    ears::Learning l(grid);
+    double V = v0, C = c0;
+    for (const Cell& c : cells) {
+        const int vertices = static_cast<int>(c.n * N);
+        for (int i = 0; i < vertices; ++i) {
+            // Two continuations a vertex, values m +- sqrt(v / 2): sample variance exactly v, rays C_c each.
+            const double m = 3 + 0.001 * (i % 7), d = std::sqrt(c.v / 2);
+            l.add({c.p, m - d, static_cast<std::uint64_t>(c.cost), ears::Section::FirstHit});
+            l.add({c.p, m + d, static_cast<std::uint64_t>(c.cost), ears::Section::FirstHit});
+            l.add({c.p, c.v, 1, ears::Section::FirstHitVertex});
+        }
+        V += c.n * c.v / 2;
+        C += c.n * 2 * c.cost;
+    }
+    const ears::Factors f = ears::learnFactors(l.sums, {C, V, N});
+    ASSERT_FALSE(f.empty());
+    std::vector<double> q;
+    for (const Cell& c : cells) {
+        const long cell = ears::Factors::cellAt(f.firstHit, grid, c.p);
+        ASSERT_EQ(cell, static_cast<long>(grid.cell(c.p, ears::Grid::kLevels - 1)));
+        q.push_back(f.firstHit[static_cast<std::size_t>(cell)]);
+        const double exact = std::clamp(std::sqrt(c0 / v0) * std::sqrt(c.v / c.cost), 1.0, ears::kMaxFactor);
+        EXPECT_NEAR(q.back(), exact, 1e-5 * exact);
+    }
+    const auto product = [&](double q1, double q2) {
+        return (v0 + cells[0].n * cells[0].v / q1 + cells[1].n * cells[1].v / q2) * (c0 + cells[0].n * q1 * cells[0].cost + cells[1].n * q2 * cells[1].cost);
+    };
+    const double best = product(q[0], q[1]);
+    for (double a = 1; a <= ears::kMaxFactor; a += 0.01)
+        for (double b = 1; b <= ears::kMaxFactor; b += 0.01) ASSERT_GE(product(a, b), best * (1 - 1e-6)) << a << " " << b;
 }
 
 // The continuations of a split vertex (n of them, varying from vertex to vertex): at the first hit, block j

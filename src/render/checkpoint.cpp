@@ -84,7 +84,7 @@ std::size_t firstUnwrittenSum(const RenderState& state) {
 /// cells that have sums, each cell's number then its values. Empty when the render does not learn.
 struct EarsSections {
     std::vector<std::uint32_t> factorCells;
-    std::vector<float> factorRatios;  ///< two a cell: sqrt(v / C_x), sqrt(M / C_x)
+    std::vector<float> factorRatios;  ///< three a cell: sqrt(v / C_x), sqrt(M / C_x), the first hit's q
     std::vector<std::uint32_t> sumCells;
     std::vector<ears::CellSums> sums;
 };
@@ -95,9 +95,9 @@ EarsSections packEars(const std::optional<ears::Learning>& learning) {
     if (!learning) return e;
     const ears::Factors& f = learning->factors;
     for (std::size_t c = 0; c < f.momentRatio.size(); ++c)
-        if (f.momentRatio[c] >= 0) {
+        if (f.momentRatio[c] >= 0 || f.firstHit[c] >= 0) {
             e.factorCells.push_back(static_cast<std::uint32_t>(c));
-            e.factorRatios.insert(e.factorRatios.end(), {f.varianceRatio[c], f.momentRatio[c]});
+            e.factorRatios.insert(e.factorRatios.end(), {f.varianceRatio[c], f.momentRatio[c], f.firstHit[c]});
         }
     for (std::size_t c = 0; c < learning->sums.size(); ++c)
         if (!learning->sums[c].empty()) {
@@ -128,6 +128,7 @@ nlohmann::json earsHeader(const ears::Learning& l, const EarsSections& e) {
             {"has_factors", !l.factors.empty()},
             {"rays_at_start", l.raysAtStart},
             {"samples_at_start", l.samplesAtStart},
+            {"variance_at_start", l.varianceAtStart},
             {"factor_cells", e.factorCells.size()},
             {"sum_cells", e.sumCells.size()}};
 }
@@ -151,7 +152,9 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
     const std::uint64_t epoch = count("epoch"), factorCells = count("factor_cells"), sumCells = count("sum_cells");
     l.raysAtStart = count("rays_at_start");
     l.samplesAtStart = count("samples_at_start");
-    if (epoch > 32 || factorCells > ears::Grid::cellCount() || sumCells > ears::Grid::cellCount())
+    l.varianceAtStart = j.at("variance_at_start").get<double>();
+    if (!std::isfinite(l.varianceAtStart) || l.varianceAtStart < 0) throw std::invalid_argument("ears: variance_at_start is not a finite number >= 0");
+    if (epoch > 32 || factorCells > ears::Grid::cellCount() || sumCells > ears::Learning::sumCount())
         throw std::invalid_argument("ears: epoch or cell counts out of range");
     l.epoch = static_cast<int>(epoch);
     if (j.at("has_factors").get<bool>()) {
@@ -159,9 +162,10 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
         if (!std::isfinite(l.factors.scale) || l.factors.scale < 0) throw std::invalid_argument("ears: its scale is not a finite number >= 0");
         l.factors.varianceRatio.assign(ears::Grid::cellCount(), -1.0f);
         l.factors.momentRatio.assign(ears::Grid::cellCount(), -1.0f);
+        l.factors.firstHit.assign(ears::Grid::cellCount(), -1.0f);
     }
     e.factorCells.resize(factorCells);
-    e.factorRatios.resize(2 * factorCells);
+    e.factorRatios.resize(3 * factorCells);
     e.sumCells.resize(sumCells);
     e.sums.resize(sumCells);
     return l;
@@ -174,11 +178,12 @@ bool unpackEars(const EarsSections& e, ears::Learning& l) {
     if (!e.factorCells.empty() && l.factors.empty()) return false;
     for (std::size_t i = 0; i < e.factorCells.size(); ++i) {
         if (e.factorCells[i] >= cells) return false;
-        l.factors.varianceRatio[e.factorCells[i]] = e.factorRatios[2 * i];
-        l.factors.momentRatio[e.factorCells[i]] = e.factorRatios[2 * i + 1];
+        l.factors.varianceRatio[e.factorCells[i]] = e.factorRatios[3 * i];
+        l.factors.momentRatio[e.factorCells[i]] = e.factorRatios[3 * i + 1];
+        l.factors.firstHit[e.factorCells[i]] = e.factorRatios[3 * i + 2];
     }
     for (std::size_t i = 0; i < e.sumCells.size(); ++i) {
-        if (e.sumCells[i] >= cells) return false;
+        if (e.sumCells[i] >= l.sums.size()) return false;
         l.sums[e.sumCells[i]] = e.sums[i];
     }
     return true;

@@ -250,6 +250,12 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
 
 double PathTracer::continuationFactor(const Vec3& p, const Color& throughput, int depth) const {
     const ears::Factors& f = learning_->factors;
+    if (depth == 0) {
+        // The first hit's factor is solved for its cell (splitting/ears.h learnFactors); where no cell has
+        // one yet, two continuations, so that the next epoch learns the within-vertex variance there.
+        const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.firstHit, learning_->grid, p);
+        return cell >= 0 ? std::clamp(static_cast<double>(f.firstHit[static_cast<std::size_t>(cell)]), 1.0, ears::kMaxFactor) : 2.0;
+    }
     const long cell = f.empty() ? -1 : f.cellAt(learning_->grid, p);
     double q = 1;
     if (cell >= 0) {
@@ -269,10 +275,16 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
     const double whole = std::floor(q);
     const auto n = static_cast<std::uint32_t>(whole) + (samples.get1D() < q - whole ? 1u : 0u);  // E[n] = q
+    // Splitting (q >= 1, so n >= 1): the mean of the n continuations, unbiased for any n drawn apart from
+    // their values, and without the variance that weights 1/q would add (n / q varies: mean^2 Var(n) / q^2,
+    // which dwarfs the continuations' own variance under smooth light). Roulette (q < 1): 1/q.
+    const double divisor = q >= 1 ? static_cast<double>(n) : q;
     const Vec3 origin = p + ng * epsilon_;
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     Color L(0.0);
     std::uint64_t traced = 0;
+    double sum = 0, squares = 0;  // of the continuations' luminances: the first hit's within-vertex variance
+    const ears::Section section = depth == 0 ? ears::Section::FirstHit : ears::Section::Deeper;
     for (std::uint32_t j = 0; j < n; ++j) {
         const std::uint64_t own = j == 0 ? path : SampleDimensions::splitPath(path, depth, j);
         dirs.clear();
@@ -289,11 +301,17 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
             if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
             const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
             const std::uint64_t nextPath = dirs.size() > 1 ? k + 1 : own;  // a set's directions: paths of their own
-            value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / q, pc);
+            value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / divisor, pc);
             ++traced;
         }
-        pc.scratch.splitRecords.push_back({p, luminance(value), pc.stats.rays - raysBefore});
-        L += value / q;
+        const double y = luminance(value);
+        pc.scratch.splitRecords.push_back({p, y, pc.stats.rays - raysBefore, section});
+        sum += y, squares += y * y;
+        L += value / divisor;
+    }
+    if (depth == 0) {
+        const double within = n > 1 ? std::max(0.0, squares - sum * sum / n) / (n - 1.0) : 0.0;
+        pc.scratch.splitRecords.push_back({p, within, n > 1 ? 1u : 0u, ears::Section::FirstHitVertex});
     }
     if (traced > 1) pc.stats.extraPaths += traced - 1;
     return L;

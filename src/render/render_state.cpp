@@ -84,20 +84,16 @@ MeanError RenderState::regionError(const PixelRect& r) const {
 }
 
 double RenderState::variancePerSample() const {
-    std::vector<double> v;
-    v.reserve(sum.size());
+    double total = 0;
+    std::size_t pixels = 0;
     bool known = true;
     forEachPixel(*this, [&](std::size_t p, std::uint32_t n) {
         if (n < 2) return void(known = false);
         const double s = luminance(sum[p]), mean = s / n;
-        v.push_back(std::max(0.0, (sumLuminanceSq[p] - s * mean) / (n - 1.0)));
+        total += std::max(0.0, (sumLuminanceSq[p] - s * mean) / (n - 1.0));
+        ++pixels;
     });
-    if (!known || v.empty()) return 0;
-    const std::size_t kept = v.size() - v.size() / 1000;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(kept - 1), v.end());
-    double total = 0;
-    for (std::size_t i = 0; i < kept; ++i) total += v[i];
-    return total / static_cast<double>(kept);
+    return known && pixels ? total / static_cast<double>(pixels) : 0.0;
 }
 
 }  // namespace symphong

@@ -87,7 +87,7 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
     const auto learn = [&](std::vector<ears::Record>& records) {
         if (!learns || records.empty()) return;
         std::lock_guard<std::mutex> lock(learnMutex);
-        for (const ears::Record& r : records) state.ears->add(r);
+        state.ears->add(records);
         records.clear();
     };
 

@@ -28,14 +28,13 @@ namespace {
 __extension__ typedef unsigned __int128 Wide;
 
 constexpr double kFixedPoint = 1099511627776.0;  // 2^40: the unit of CellSums' values is 2^-40
-constexpr double kMaxValue = 1e8;
+constexpr double kMaxValue = 8388608.0;  // 2^23: value 2^40 < 2^63
 
 Wide wide(const std::uint64_t (&w)[2]) { return (static_cast<Wide>(w[1]) << 64) | w[0]; }
 void store(std::uint64_t (&w)[2], Wide v) {
     w[0] = static_cast<std::uint64_t>(v);
     w[1] = static_cast<std::uint64_t>(v >> 64);
 }
-Wide fixedPoint(double v) { return static_cast<Wide>(v * kFixedPoint); }
 double toDouble(Wide v) { return static_cast<double>(v) / kFixedPoint; }
 
 }  // namespace
@@ -58,10 +57,10 @@ void CellSums::add(double value, std::uint64_t rays) {
     value = std::min(value, kMaxValue);
     ++count;
     cost += rays;
-    store(values, wide(values) + fixedPoint(value));
-    // value^2 in units of 2^-40 without overflowing a double's exactness: (value 2^20)^2.
-    const double scaled = value * 1048576.0;
-    store(squares, wide(squares) + static_cast<Wide>(scaled * scaled));
+    // value in units of 2^-40 (< 2^63), and its square from value in units of 2^-20 (< 2^43), squared exactly.
+    store(values, wide(values) + static_cast<std::uint64_t>(value * kFixedPoint));
+    const auto scaled = static_cast<std::uint64_t>(value * 1048576.0);
+    store(squares, wide(squares) + static_cast<Wide>(scaled) * scaled);
 }
 
 void CellSums::add(const CellSums& o) {
@@ -94,9 +93,13 @@ std::size_t Grid::cellCount() {
     return n;
 }
 
-std::size_t Grid::cell(const Vec3& p, int level) const {
+std::size_t Grid::firstCell(int level) {
     std::size_t first = 0;
     for (int l = 0; l < level; ++l) first += static_cast<std::size_t>(kResolution[l]) * kResolution[l] * kResolution[l];
+    return first;
+}
+
+std::size_t Grid::cell(const Vec3& p, int level) const {
     const int r = kResolution[static_cast<std::size_t>(level)];
     const auto index = [&](double x, double lo, double inv) {
         const double t = (x - lo) * inv * r;
@@ -104,32 +107,141 @@ std::size_t Grid::cell(const Vec3& p, int level) const {
         return static_cast<std::size_t>(std::min(t, r - 1.0));
     };
     const std::size_t ix = index(p.x, lo_.x, inverseSize_.x), iy = index(p.y, lo_.y, inverseSize_.y), iz = index(p.z, lo_.z, inverseSize_.z);
-    return first + (iz * static_cast<std::size_t>(r) + iy) * static_cast<std::size_t>(r) + ix;
+    return firstCell(level) + (iz * static_cast<std::size_t>(r) + iy) * static_cast<std::size_t>(r) + ix;
 }
 
-long Factors::cellAt(const Grid& grid, const Vec3& p) const {
-    for (int level = Grid::kLevels - 1; level >= 0; --level) {
-        const std::size_t c = grid.cell(p, level);
-        if (momentRatio[c] >= 0) return static_cast<long>(c);
+std::size_t Grid::ancestor(std::size_t finest, int level) {
+    const auto fine = static_cast<std::size_t>(kResolution[kLevels - 1]);
+    const std::size_t i = finest - firstCell(kLevels - 1), ix = i % fine, iy = i / fine % fine, iz = i / (fine * fine);
+    const auto r = static_cast<std::size_t>(kResolution[static_cast<std::size_t>(level)]);
+    const std::size_t shift = fine / r;
+    return firstCell(level) + (iz / shift * r + iy / shift) * r + ix / shift;
+}
+
+long Factors::cellAt(const std::vector<float>& table, const Grid& grid, const Vec3& p) {
+    const std::size_t finest = grid.cell(p, Grid::kLevels - 1);
+    if (table[finest] >= 0) return static_cast<long>(finest);
+    for (int level = Grid::kLevels - 2; level >= 0; --level) {
+        const std::size_t c = Grid::ancestor(finest, level);
+        if (table[c] >= 0) return static_cast<long>(c);
     }
     return -1;
 }
 
-Factors learnFactors(const std::vector<CellSums>& sums, double costPerSample, double variancePerSample) {
+namespace {
+
+/// The first hit's cells as the model sees them: per cell its vertices and continuations per camera
+/// sample, within-vertex variance and rays per continuation.
+struct FirstHitCell {
+    double vertices = 0, continuations = 0, variance = 0, cost = 0;
+};
+
+/// The variance a cell's first-hit vertices would have per continuation (-1: too few to say): the mean
+/// within-vertex variance where enough vertices had two or more continuations, else the variance of all
+/// its continuations (which also holds the spread of means across the cell: too high, so the next epoch
+/// splits more and measures the within-vertex part).
+double firstHitVariance(const CellSums& continuations, const CellSums& vertices) {
+    if (vertices.count < kMinRecords || continuations.count < 2) return -1;
+    if (vertices.cost >= kMinRecords) return vertices.mean() * static_cast<double>(vertices.count) / static_cast<double>(vertices.cost);
+    const double n = static_cast<double>(continuations.count);
+    return std::max(0.0, (continuations.secondMoment() - continuations.mean() * continuations.mean()) * n / (n - 1));
+}
+
+/// The model's V x C optimum over the first hit's cells: lambda with lambda^2 V(lambda) = C(lambda), by
+/// bisection on log lambda (lambda^2 V - C grows with lambda: the terms of unclamped cells cancel).
+double solveScale(double v0, double c0, const std::vector<FirstHitCell>& cells) {
+    const auto gap = [&](double lambda) {
+        double v = v0, c = c0;
+        for (const FirstHitCell& m : cells) {
+            const double q = std::clamp(lambda * std::sqrt(m.variance / m.cost), 1.0, kMaxFactor);
+            v += m.vertices * m.variance / q;
+            c += m.vertices * q * m.cost;
+        }
+        return lambda * lambda * v - c;
+    };
+    double lo = std::log(1e-9), hi = std::log(1e9);
+    if (gap(std::exp(hi)) <= 0) return std::exp(hi);
+    for (int i = 0; i < 80; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (gap(std::exp(mid)) < 0 ? lo : hi) = mid;
+    }
+    return std::exp(0.5 * (lo + hi));
+}
+
+}  // namespace
+
+Factors learnFactors(const std::vector<CellSums>& sums, const EpochMeasure& epoch) {
     Factors f;
-    if (!(variancePerSample > 0) || !(costPerSample > 0) || !std::isfinite(variancePerSample)) return f;
-    f.scale = std::sqrt(costPerSample / variancePerSample);
-    f.varianceRatio.assign(sums.size(), -1.0f);
-    f.momentRatio.assign(sums.size(), -1.0f);
-    for (std::size_t c = 0; c < sums.size(); ++c) {
-        const CellSums& s = sums[c];
+    const double V = epoch.variancePerSample, C = epoch.costPerSample, N = epoch.cameraSamples;
+    if (!(V > 0) || !(C > 0) || !(N > 0) || !std::isfinite(V)) return f;
+    const std::size_t cells = Grid::cellCount();
+    const CellSums* deeper = sums.data() + cells * static_cast<std::size_t>(Section::Deeper);
+    const CellSums* firstHit = sums.data() + cells * static_cast<std::size_t>(Section::FirstHit);
+    const CellSums* vertices = sums.data() + cells * static_cast<std::size_t>(Section::FirstHitVertex);
+    f.varianceRatio.assign(cells, -1.0f);
+    f.momentRatio.assign(cells, -1.0f);
+    f.firstHit.assign(cells, -1.0f);
+    std::vector<float> firstHitVariance(cells, -1.0f);
+    for (std::size_t c = 0; c < cells; ++c) {
+        firstHitVariance[c] = static_cast<float>(ears::firstHitVariance(firstHit[c], vertices[c]));
+        const CellSums& s = deeper[c];
         if (s.count < kMinRecords) continue;
         const double m = s.secondMoment(), mean = s.mean(), cost = std::max(1.0, s.meanCost());
         const double unbiased = static_cast<double>(s.count) / static_cast<double>(s.count - 1);
         f.varianceRatio[c] = static_cast<float>(std::sqrt(std::max(0.0, (m - mean * mean) * unbiased) / cost));
         f.momentRatio[c] = static_cast<float>(std::sqrt(m / cost));
     }
+    // The model's cells: every finest cell's vertices counted once, in the cell whose estimate they use;
+    // V0 and C0 what remains of V and C without the first hit's continuations at their epoch's factors.
+    std::vector<FirstHitCell> model;
+    std::vector<long> modelIndex(cells, -1);
+    double v0 = V, c0 = C;
+    const std::size_t finest = Grid::firstCell(Grid::kLevels - 1);
+    for (std::size_t c = finest; c < cells; ++c) {
+        if (vertices[c].count == 0) continue;
+        long used = -1;
+        for (int level = Grid::kLevels - 1; level >= 0 && used < 0; --level)
+            if (const std::size_t a = Grid::ancestor(c, level); firstHitVariance[a] >= 0) used = static_cast<long>(a);
+        const double n = static_cast<double>(vertices[c].count) / N, k = static_cast<double>(firstHit[c].count) / N;
+        if (used < 0) continue;  // no estimate: stays in V0 and C0 at its factor (kept next epoch)
+        const auto u = static_cast<std::size_t>(used);
+        if (modelIndex[u] < 0) {
+            modelIndex[u] = static_cast<long>(model.size());
+            model.push_back({0, 0, firstHitVariance[u], std::max(1.0, firstHit[u].meanCost())});
+        }
+        FirstHitCell& m = model[static_cast<std::size_t>(modelIndex[u])];
+        m.vertices += n, m.continuations += k;
+    }
+    for (const FirstHitCell& m : model) {
+        // At the epoch's factors q_old = continuations / vertices a cell added n v / q_old to V and
+        // n q_old C_c to C.
+        if (m.continuations > 0) v0 -= m.vertices * m.vertices * m.variance / m.continuations;
+        c0 -= m.continuations * m.cost;
+    }
+    v0 = std::max(v0, 0.02 * V);
+    c0 = std::max(c0, 1.0);
+    f.scale = model.empty() ? std::sqrt(C / V) : solveScale(v0, c0, model);
+    for (std::size_t c = 0; c < cells; ++c)
+        if (firstHitVariance[c] >= 0)
+            f.firstHit[c] = static_cast<float>(std::clamp(
+                f.scale * std::sqrt(firstHitVariance[c] / std::max(1.0, firstHit[c].meanCost())), 1.0, kMaxFactor));
+    // A finest cell without an estimate of its own takes its nearest coarser cell's (what cellAt would
+    // find), so that a vertex looks up one cell.
+    for (std::size_t c = finest; c < cells; ++c)
+        for (int level = Grid::kLevels - 2; level >= 0 && (f.momentRatio[c] < 0 || f.firstHit[c] < 0); --level) {
+            const std::size_t a = Grid::ancestor(c, level);
+            if (f.momentRatio[c] < 0 && f.momentRatio[a] >= 0) f.momentRatio[c] = f.momentRatio[a], f.varianceRatio[c] = f.varianceRatio[a];
+            if (f.firstHit[c] < 0 && f.firstHit[a] >= 0) f.firstHit[c] = f.firstHit[a];
+        }
     return f;
+}
+
+void propagateToCoarserCells(std::vector<CellSums>& sums) {
+    const std::size_t cells = Grid::cellCount(), finest = Grid::firstCell(Grid::kLevels - 1);
+    for (std::size_t base = 0; base + cells <= sums.size(); base += cells)
+        for (std::size_t c = finest; c < cells; ++c)
+            if (!sums[base + c].empty())
+                for (int level = 0; level < Grid::kLevels - 1; ++level) sums[base + Grid::ancestor(c, level)].add(sums[base + c]);
 }
 
 void modelVarianceAndCost(double baseVariance, double baseCost, const std::vector<ModelRegion>& regions, const std::vector<double>& q,

@@ -48,7 +48,8 @@ inline constexpr std::uint64_t kMinRecords = 32;  ///< a cell's estimate is used
 double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale);
 
 /// Exact sums of one region's continuations: their number, rays, values and squared values in units of
-/// 2^-40 (unsigned 128-bit integers; values are clamped to [0, 10^8]), so that adding the same records in
+/// 2^-40 (unsigned 128-bit integers; values are clamped to [0, 2^23], so that a value fits 64 bits and its
+/// square is one exact 64 x 64-bit product), so that adding the same records in
 /// any order gives the same sums, bit for bit.
 struct CellSums {
     std::uint64_t count = 0;
@@ -64,12 +65,12 @@ struct CellSums {
     double meanCost() const;      ///< mean rays (0 when empty)
 };
 
-/// The regions: a grid over a box at resolutions 8, 16, 32 and 64 cells a side; a point lies in one cell
+/// The regions: a grid over a box at resolutions 4, 8, 16 and 32 cells a side; a point lies in one cell
 /// of each level. A vertex uses the finest of its cells whose estimate rests on kMinRecords continuations.
 class Grid {
 public:
     static constexpr int kLevels = 4;
-    static constexpr std::array<int, kLevels> kResolution = {8, 16, 32, 64};
+    static constexpr std::array<int, kLevels> kResolution = {4, 8, 16, 32};
 
     Grid() = default;
     /// The box [lo, hi], widened by 0.1% of its diagonal on every side (points on its faces lie inside).
@@ -77,10 +78,14 @@ public:
     /// The grid over exactly [lo, hi] (a checkpoint's grid: lo() and hi() of the one it was made with).
     static Grid fromBox(const Vec3& lo, const Vec3& hi);
 
-    /// Cells of every level together (299,520).
+    /// Cells of every level together (37,440).
     static std::size_t cellCount();
     /// The index of `p`'s cell at `level` (points outside the box: its nearest cell).
     std::size_t cell(const Vec3& p, int level) const;
+    /// The first cell of `level` (cells of a level are numbered x fastest, then y, then z).
+    static std::size_t firstCell(int level);
+    /// The cell of `level` that holds cell `finest` of the finest level.
+    static std::size_t ancestor(std::size_t finest, int level);
     const Vec3& lo() const { return lo_; }
     const Vec3& hi() const { return hi_; }
 
@@ -88,21 +93,49 @@ private:
     Vec3 lo_, hi_, inverseSize_;
 };
 
-/// What a render learned for an epoch: per cell sqrt(v / C_x) and sqrt(M / C_x) (negative: too few
-/// continuations to say), and the image's sqrt(C / V).
+/// What the sums of an epoch hold, in three sections of Grid::cellCount() cells each (Learning::sums):
+///  - Deeper: continuations of vertices after the first hit (count, rays, values and squares);
+///  - FirstHit: continuations of first-hit vertices (the same);
+///  - FirstHitVertex: first-hit vertices, one record each: count = vertices, cost = those with two or more
+///    continuations, values = the sum of their continuations' sample variances (the within-vertex
+///    variance, which splitting divides by n; the spread of means across a cell, which it does not, is
+///    left out).
+enum class Section : std::uint8_t { Deeper = 0, FirstHit = 1, FirstHitVertex = 2 };
+inline constexpr int kSections = 3;
+
+/// What a render learned for an epoch: per cell sqrt(v / C_x) and sqrt(M / C_x) of the deeper vertices
+/// and the first hit's factor q (negative: too few records to say), and the scale sqrt(C / V) at the
+/// optimum.
 struct Factors {
-    std::vector<float> varianceRatio, momentRatio;
+    std::vector<float> varianceRatio, momentRatio, firstHit;
     double scale = 0;
 
     bool empty() const { return momentRatio.empty(); }
-    /// The cell whose ratios a vertex at p uses: its finest cell with an estimate; -1 when none has one.
-    long cellAt(const Grid& grid, const Vec3& p) const;
+    /// The cell whose entry of `table` (momentRatio or firstHit) a vertex at p uses: its finest cell with
+    /// an estimate; -1 when none has one.
+    static long cellAt(const std::vector<float>& table, const Grid& grid, const Vec3& p);
+    long cellAt(const Grid& grid, const Vec3& p) const { return cellAt(momentRatio, grid, p); }
 };
 
-/// The factors learned from one epoch's sums (one CellSums per cell of the grid), the cost C of a camera
-/// sample and the variance V of its estimate (per pixel, averaged over the image). No factors at all when
-/// V is not positive.
-Factors learnFactors(const std::vector<CellSums>& sums, double costPerSample, double variancePerSample);
+/// What a render measured over one epoch: the sums (kSections x Grid::cellCount()), the cost C of a
+/// camera sample (rays), the variance V of its estimate (per pixel, averaged over the image) and the
+/// number of camera samples.
+struct EpochMeasure {
+    double costPerSample = 0, variancePerSample = 0, cameraSamples = 0;
+};
+
+/// The factors learned from one epoch. Deeper vertices: EARS's ratios per cell, used with the scale by
+/// splittingFactor. The first hit: the optimum of the model V(q) = V0 + sum_c n_c v_c / q_c,
+/// C(q) = C0 + sum_c n_c q_c C_c over its cells c (n_c first-hit vertices per camera sample, v_c their
+/// within-vertex variance, C_c the rays of one continuation; V0 and C0 what the epoch measured less the
+/// first hit's continuations at the factors it had), solved at once rather than one step per epoch:
+/// q_c = lambda sqrt(v_c / C_c) clamped to [1, kMaxFactor] with lambda^2 = C(q) / V(q) (found by
+/// bisection); lambda is the scale. No factors at all when V is not positive.
+Factors learnFactors(const std::vector<CellSums>& sums, const EpochMeasure& epoch);
+
+/// Sums of the finest cells (where Learning::add puts records) added into every coarser cell that holds
+/// them, section by section (sums: whole sections of Grid::cellCount() cells).
+void propagateToCoarserCells(std::vector<CellSums>& sums);
 
 /// A model of an image for the fixed point: per camera sample, `visits` vertices of this region with
 /// throughput `throughput`, whose continuations have variance `variance` and cost `cost` (and mean 0, so

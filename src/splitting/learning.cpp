@@ -1,5 +1,7 @@
 #include "splitting/learning.h"
 
+#include <algorithm>
+#include <array>
 #include <bit>
 
 namespace symphong::ears {
@@ -15,7 +17,23 @@ std::uint32_t epochEnd(std::uint32_t reached) {
 std::uint32_t epochStart(int epoch) { return epoch == 0 ? 0u : epoch >= 32 ? 0xffffffffu : (1u << epoch); }
 
 void Learning::add(const Record& r) {
-    for (int level = 0; level < Grid::kLevels; ++level) sums[grid.cell(r.position, level)].add(r.value, r.rays);
+    CellSums* section = sums.data() + Grid::cellCount() * static_cast<std::size_t>(r.section);
+    section[grid.cell(r.position, Grid::kLevels - 1)].add(r.value, r.rays);  // the coarser cells at the epoch's end
+}
+
+void Learning::add(const std::vector<Record>& records) {
+    constexpr std::size_t kAhead = 16;
+    const auto cellOf = [&](const Record& r) {
+        return Grid::cellCount() * static_cast<std::size_t>(r.section) + grid.cell(r.position, Grid::kLevels - 1);
+    };
+    std::array<std::size_t, kAhead> ring{};
+    const std::size_t n = records.size();
+    for (std::size_t i = 0; i < std::min(n, kAhead); ++i) __builtin_prefetch(&sums[ring[i] = cellOf(records[i])], 1);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t c = ring[i % kAhead];
+        if (i + kAhead < n) __builtin_prefetch(&sums[ring[i % kAhead] = cellOf(records[i + kAhead])], 1);
+        sums[c].add(records[i].value, records[i].rays);
+    }
 }
 
 void Learning::add(const std::vector<CellSums>& other) {
@@ -24,9 +42,14 @@ void Learning::add(const std::vector<CellSums>& other) {
 }
 
 void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples) {
-    const double cost = samples > samplesAtStart ? static_cast<double>(rays - raysAtStart) / static_cast<double>(samples - samplesAtStart) : 0;
-    factors = learnFactors(sums, cost, variancePerSample);
-    sums.assign(Grid::cellCount(), CellSums{});
+    EpochMeasure m;
+    m.cameraSamples = static_cast<double>(samples - std::min(samples, samplesAtStart));
+    m.costPerSample = m.cameraSamples > 0 ? static_cast<double>(rays - raysAtStart) / m.cameraSamples : 0;
+    m.variancePerSample = epoch == 0 ? variancePerSample : std::max(2 * variancePerSample - varianceAtStart, 0.25 * variancePerSample);
+    propagateToCoarserCells(sums);
+    factors = learnFactors(sums, m);
+    sums.assign(sumCount(), CellSums{});
+    varianceAtStart = variancePerSample;
     ++epoch;
     raysAtStart = rays;
     samplesAtStart = samples;

@@ -15,11 +15,14 @@
 namespace symphong::ears {
 
 /// One continuation as the path tracer reports it: where its vertex was, what it brought back (the
-/// luminance of its estimate, before the vertex's 1/q) and the rays it took.
+/// luminance of its estimate, before the vertex's 1/q) and the rays it took; or, in the FirstHitVertex
+/// section, one first-hit vertex: its continuations' sample variance and rays = 1 when it had two or
+/// more continuations (else 0 and 0).
 struct Record {
     Vec3 position;
     double value = 0;
     std::uint64_t rays = 0;
+    Section section = Section::Deeper;
 };
 
 /// The epoch of sample index i (0 for i < 2, else floor(log2 i)).
@@ -33,19 +36,26 @@ struct Learning {
     Grid grid;
     int epoch = 0;                   ///< the epoch being rendered
     Factors factors;                 ///< its factors (none in epoch 0, or when the image had no variance)
-    std::vector<CellSums> sums;      ///< its continuations so far, per cell of every level
+    std::vector<CellSums> sums;      ///< its records so far, per section (ears.h Section) and cell of every level
     std::uint64_t raysAtStart = 0;   ///< the render's rays when the epoch began
     std::uint64_t samplesAtStart = 0;  ///< and its camera samples
+    double varianceAtStart = 0;      ///< and the image's variance per camera sample over all samples before it
 
     Learning() = default;
-    explicit Learning(const Grid& g) : grid(g), sums(Grid::cellCount()) {}
+    explicit Learning(const Grid& g) : grid(g), sums(sumCount()) {}
+    static std::size_t sumCount() { return kSections * Grid::cellCount(); }
 
-    /// Adds a continuation to its cell at every level.
+    /// Adds a record to its section's finest cell (the coarser ones get their sums when the epoch ends).
     void add(const Record& r);
+    /// Adds records in order, their cells fetched into the cache a few records ahead (cells are scattered
+    /// over megabytes: one add at a time would wait on memory for each).
+    void add(const std::vector<Record>& records);
     /// Adds another process's or thread's sums of the same epoch.
     void add(const std::vector<CellSums>& other);
     /// Ends the epoch: the next one's factors from this one's sums, its cost per camera sample (from the
-    /// render's rays and samples now) and the image's variance per camera sample.
+    /// render's rays and samples now) and its variance per camera sample, from the image's over all
+    /// samples now (`variancePerSample`) and at the epoch's start: an epoch after the first has as many
+    /// samples as all before it, so its variance is about 2 V_now - V_start.
     void advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples);
 };
 
