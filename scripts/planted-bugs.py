@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plants known bugs in a copy of the source, one at a time, and runs the test suite after each.
 
-Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check]
+Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check]   (--only: these bugs, in this order)
 
 For every bug below it applies one exact text replacement to a git worktree of HEAD (beside the
 checkout, as ../<checkout>-planted, so that scenes referring to ../shared resolve), builds it under
@@ -224,7 +224,7 @@ def ctest(jobs, shared):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--only", default="", help="comma-separated bug names")
+    ap.add_argument("--only", default="", help="comma-separated bug names, run in this order")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--check", action="store_true", help="only check that every planted text is in the source once")
     args = ap.parse_args()
@@ -239,7 +239,8 @@ def main():
     if code != 0:
         sys.exit("the clean tree fails tests: " + ", ".join(failed))
     rows, missed = [], 0
-    for bug in BUGS:
+    order = [n.strip() for n in args.only.split(",") if n.strip()]
+    for bug in sorted(BUGS, key=lambda b: order.index(b[0]) if b[0] in order else len(order)):  # --only's order
         name, what, rel, pairs = bug[0], bug[1], bug[2], replacements(*bug[3:5]) if len(bug) == 5 else bug[3]
         if only and name not in only:
             continue
