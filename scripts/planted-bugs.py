@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plants known bugs in a copy of the source, one at a time, and runs the test suite after each.
 
-Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check]   (--only: these bugs, in this order)
+Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check] [--reuse]   (--only: these bugs, in this order)
 
 For every bug below it applies one exact text replacement to a git worktree of HEAD (beside the
 checkout, as ../<checkout>-planted, so that scenes referring to ../shared resolve), builds it under
@@ -227,17 +227,25 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated bug names, run in this order")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--check", action="store_true", help="only check that every planted text is in the source once")
+    ap.add_argument("--reuse", action="store_true",
+                    help="keep the worktree and build an earlier run left (its commit, not HEAD) and skip the clean-tree "
+                         "test run, which that run made; the commit is printed")
     args = ap.parse_args()
     only = set(filter(None, args.only.split(",")))
     if args.check:
         return check_only(only)
-    shared = prepare()
-    r = build(args.jobs)
-    if r.returncode != 0:
-        sys.exit("the clean tree does not build:\n" + r.stdout[-3000:])
-    code, failed = ctest(args.jobs, shared)
-    if code != 0:
-        sys.exit("the clean tree fails tests: " + ", ".join(failed))
+    if args.reuse and os.path.isdir(TREE) and os.path.isdir(BUILD):
+        shared = os.path.join(os.path.dirname(ROOT), "shared", "scenes")
+        commit = run(["git", "rev-parse", "--short", "HEAD"], TREE).stdout.strip()
+        print(f"reusing {TREE} at {commit} and its build; no clean-tree test run", file=sys.stderr, flush=True)
+    else:
+        shared = prepare()
+        r = build(args.jobs)
+        if r.returncode != 0:
+            sys.exit("the clean tree does not build:\n" + r.stdout[-3000:])
+        code, failed = ctest(args.jobs, shared)
+        if code != 0:
+            sys.exit("the clean tree fails tests: " + ", ".join(failed))
     rows, missed = [], 0
     order = [n.strip() for n in args.only.split(",") if n.strip()]
     for bug in sorted(BUGS, key=lambda b: order.index(b[0]) if b[0] in order else len(order)):  # --only's order
