@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plants known bugs in a copy of the source, one at a time, and runs the test suite after each.
 
-Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check]
+Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check] [--reuse]   (--only: these bugs, in this order)
 
 For every bug below it applies one exact text replacement to a git worktree of HEAD (beside the
 checkout, as ../<checkout>-planted, so that scenes referring to ../shared resolve), builds it under
@@ -35,10 +35,10 @@ BUGS = [
     ("nee-no-cosine", "light sampling forgets the cosine at the shading point", "src/render/path_tracer.cpp",
      "(wiLocal.z * w / s.pdf)", "(w / s.pdf)"),
     ("mis-swapped", "light sampling's MIS weight takes the estimator's density as its own", "src/render/path_tracer.cpp",
-     "powerHeuristic(s.pdf, estimatorMisPdf(sc, wiLocal))", "powerHeuristic(estimatorMisPdf(sc, wiLocal), s.pdf)"),
+     "powerHeuristic(s.pdf, estimator_.misPdf(sc, wiLocal) * misScale)", "powerHeuristic(estimator_.misPdf(sc, wiLocal) * misScale, s.pdf)"),
     ("roulette-unweighted", "Russian roulette survivors not divided by the survival probability", "src/render/path_tracer.cpp",
-     "return L + s.weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;",
-     "return L + s.weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc);"),
+     "if (!branching) return weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;",
+     "if (!branching) return weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc);"),
     ("thread-rng", "cosine estimator draws from a per-thread generator instead of the sampler", "src/estimators/basic.cpp",
      "    const Vec3 wi = sampleCosineHemisphere(samples.get2D());\n    pushWeighted(ctx, wi, cosineHemispherePdf(wi), out);",
      "    static thread_local Rng rng(7, 7);\n    (void)samples;\n    const Vec3 wi = sampleCosineHemisphere(rng.uniform2());\n"
@@ -94,6 +94,66 @@ BUGS = [
      "if (bytes <= budget) return;", "if (bytes < budget) return;"),
     ("sobol-pair-shared-scramble", "a Sobol' pair's y coordinate scrambled with its x coordinate's seed", "src/sampling/sampler.cpp",
      "fixedToUnit(owenScrambledSobol1(j, high32(h)))};", "fixedToUnit(owenScrambledSobol1(j, low32(h)))};"),
+    # Issue 35 item 3: the code written or moved since the pass of 2026-12-02.
+    ("mix-orbit-unweighted", "symmetric-mix's branch mode weights each of an orbit's R copies f cos / q instead of f cos / (R q)",
+     "src/estimators/symmetric_mix.cpp", "for (int j = 0; j < orbit_; ++j) push(ctx, copies(j), static_cast<double>(orbit_), out);",
+     "for (int j = 0; j < orbit_; ++j) push(ctx, copies(j), 1.0, out);"),
+    ("mix-family-not-offset", "symmetric-mix's copies of an orbit all take the first copy's family (no j / R offset of t)",
+     "src/estimators/symmetric_mix.cpp", "double t = o_.t + static_cast<double>(j) / orbit_;", "double t = o_.t;"),
+    ("ckpt-ears-ratios-swapped", "a checkpoint's learned EARS ratios read back in the other order (variance for moment)",
+     "src/render/checkpoint.cpp",
+     "l.factors.varianceRatio[e.factorCells[i]] = e.factorRatios[2 * i];\n        l.factors.momentRatio[e.factorCells[i]] = e.factorRatios[2 * i + 1];",
+     "l.factors.varianceRatio[e.factorCells[i]] = e.factorRatios[2 * i + 1];\n        l.factors.momentRatio[e.factorCells[i]] = e.factorRatios[2 * i];"),
+    ("region-error-per-pixel", "the standard error of a region's mean divided by sqrt(pixels) instead of pixels",
+     "src/render/render_state.cpp", "return {meanSum / c, std::sqrt(varSum) / c};", "return {meanSum / c, std::sqrt(varSum / c)};"),
+    ("target-error-best-region", "--target-error stops when the best --target-region meets it instead of the worst",
+     "src/render/progressive.cpp", "for (const PixelRect& r : regions) worst = std::max(worst, state.regionError(r).relative());",
+     "for (const PixelRect& r : regions) worst = std::min(worst, state.regionError(r).relative());"),
+    ("time-limit-ignores-pass", "the pass size ignores the time left under --time (the last pass overshoots it)",
+     "src/render/progressive.cpp",
+     "    if (rules.timeLimit > 0 && secondsPerSpp > 0) n = std::min(n, std::floor((rules.timeLimit - state.seconds) / secondsPerSpp));\n",
+     "\n"),
+    ("relmse-epsilon", "relMSE divides by (Y_ref + 0.01)^2 instead of Y_ref^2 + 0.01", "src/compare/metrics.cpp",
+     "rel += d2 / (yr * yr + 0.01);", "rel += d2 / ((yr + 0.01) * (yr + 0.01));"),
+    ("hdrflip-exposure-step", "HDR-FLIP's exposures step (stop - start) / count instead of / (count - 1) (the last one short of stop)",
+     "src/compare/flip.cpp", "const double step = count > 1 ? (stop - start) / (count - 1) : 0.0;",
+     "const double step = count > 1 ? (stop - start) / count : 0.0;"),
+    ("ply-strip-parity", "a PLY strip's winding alternates by the index's position in the list, not in its strip (after a -1 restart)",
+     "src/scene/ply_loader.cpp", "if ((k - start) % 2 == 0) add(idx[k - 2], idx[k - 1], idx[k]);",
+     "if (k % 2 == 0) add(idx[k - 2], idx[k - 1], idx[k]);"),
+    ("normal-map-no-handedness", "a normal map's bitangent ignores the tangent's sign (mirrored UVs bend the wrong way)",
+     "src/scene/shading_normal.cpp", "const Vec3 b = cross(n, t) * sign;", "const Vec3 b = cross(n, t);"),
+    ("normal-map-strength-on-z", "a normal map's strength scales z as well as x and y (so it does nothing)",
+     "src/scene/shading_normal.cpp", "(2 * c.y - 1) * tx.normalScale, 2 * c.z - 1);",
+     "(2 * c.y - 1) * tx.normalScale, (2 * c.z - 1) * tx.normalScale);"),
+    ("height-slope-doubled", "a height map's slope along u divided by one step instead of two (twice as steep)",
+     "src/scene/shading_normal.cpp", "const double dhdu = (height(uv.u + du, uv.v) - height(uv.u - du, uv.v)) / (2 * du);",
+     "const double dhdu = (height(uv.u + du, uv.v) - height(uv.u - du, uv.v)) / du;"),
+    ("bump-shadowing-terms", "the shadow-terminator term -g^3 + g^2 + g written -g^2 + g^3 + g", "src/scene/shading_normal.cpp",
+     "return -g2 * g + g2 + g;", "return -g2 + g2 * g + g;"),
+    ("texture-transform-rotation", "KHR_texture_transform's rotation turned the other way", "src/scene/assimp_materials.cpp",
+     "m01 = -sy * std::sin(r), m10 = sx * std::sin(r),", "m01 = sy * std::sin(r), m10 = -sx * std::sin(r),"),
+    ("texture-transform-offset-v", "KHR_texture_transform's offset along t not flipped to symphong's v", "src/scene/assimp_materials.cpp",
+     "1 - m11 - oy};", "1 - m11 + oy};"),
+    ("range-lower-exclusive", "a setting's range excludes its lower bound (--spp 1, --time 0 refused)", "src/util/schema.h",
+     "if (f.hasRange() && !(v >= f.lo && v <= f.hi))", "if (f.hasRange() && !(v > f.lo && v <= f.hi))"),
+    ("split-range-zero", "--split 0 accepted (renders as --split 1)", "src/render/settings.cpp",
+     "member(&RenderOptions::split))\n                        .range(1, 64));", "member(&RenderOptions::split))\n                        .range(0, 64));"),
+    ("answer-factor-mse", "the answer's relMSE line quotes its factors by MSE", "src/study/answer.cpp",
+     "const ErrorMeasure m = rel ? ErrorMeasure::RelMse : ErrorMeasure::Mse;", "const ErrorMeasure m = ErrorMeasure::Mse;"),
+    ("fbx-blender-specular-half", "Blender's FBX SpecularFactor (Specular / 2) taken as Specular: every glossy material's rho_s halved",
+     "src/scene/assimp_materials.cpp", "blenderPrincipledToPhong(out.rhoD, metallic, 2.0 * factor, roughness,",
+     "blenderPrincipledToPhong(out.rhoD, metallic, factor, roughness,"),
+    ("fbx-blender-roughness", "Blender's FBX ShininessExponent ((1 - R) 10)^2 undone with / 100 instead of / 10 (R near 1: rough)",
+     "src/scene/assimp_materials.cpp", "std::sqrt(std::max(0.0, static_cast<double>(shininess))) / 10.0;",
+     "std::sqrt(std::max(0.0, static_cast<double>(shininess))) / 100.0;"),
+    ("obj-blender-roughness", "Blender's MTL Ns = (1 - R)^2 1000 undone without the square root", "src/scene/obj_loader.cpp",
+     "1.0 - std::sqrt(std::clamp(mt.shininess / 1000.0, 0.0, 1.0));", "1.0 - std::clamp(mt.shininess / 1000.0, 0.0, 1.0);"),
+    ("ears-continuation-unweighted", "EARS's continuations not divided by the splitting factor q", "src/render/path_tracer.cpp",
+     "        L += value / q;\n", "        L += value;\n"),
+    ("ears-epoch-not-cut", "an EARS render not cut at the epochs' ends (a pass spans epochs: factors from the wrong epoch)",
+     "src/render/renderer.cpp", "renderSegment(scene, accel, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);",
+     "renderSegment(scene, accel, estimator, settings, state, upTo, progress);"),
 ]
 
 # Tests that fail for any change of output, right or wrong: a bug they alone catch counts as missed.
@@ -164,22 +224,31 @@ def ctest(jobs, shared):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--only", default="", help="comma-separated bug names")
+    ap.add_argument("--only", default="", help="comma-separated bug names, run in this order")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--check", action="store_true", help="only check that every planted text is in the source once")
+    ap.add_argument("--reuse", action="store_true",
+                    help="keep the worktree and build an earlier run left (its commit, not HEAD) and skip the clean-tree "
+                         "test run, which that run made; the commit is printed")
     args = ap.parse_args()
     only = set(filter(None, args.only.split(",")))
     if args.check:
         return check_only(only)
-    shared = prepare()
-    r = build(args.jobs)
-    if r.returncode != 0:
-        sys.exit("the clean tree does not build:\n" + r.stdout[-3000:])
-    code, failed = ctest(args.jobs, shared)
-    if code != 0:
-        sys.exit("the clean tree fails tests: " + ", ".join(failed))
+    if args.reuse and os.path.isdir(TREE) and os.path.isdir(BUILD):
+        shared = os.path.join(os.path.dirname(ROOT), "shared", "scenes")
+        commit = run(["git", "rev-parse", "--short", "HEAD"], TREE).stdout.strip()
+        print(f"reusing {TREE} at {commit} and its build; no clean-tree test run", file=sys.stderr, flush=True)
+    else:
+        shared = prepare()
+        r = build(args.jobs)
+        if r.returncode != 0:
+            sys.exit("the clean tree does not build:\n" + r.stdout[-3000:])
+        code, failed = ctest(args.jobs, shared)
+        if code != 0:
+            sys.exit("the clean tree fails tests: " + ", ".join(failed))
     rows, missed = [], 0
-    for bug in BUGS:
+    order = [n.strip() for n in args.only.split(",") if n.strip()]
+    for bug in sorted(BUGS, key=lambda b: order.index(b[0]) if b[0] in order else len(order)):  # --only's order
         name, what, rel, pairs = bug[0], bug[1], bug[2], replacements(*bug[3:5]) if len(bug) == 5 else bug[3]
         if only and name not in only:
             continue

@@ -344,18 +344,24 @@ TEST(EarsRender, SameImageAtAnyThreadCountAndAnyPasses) {
     EXPECT_FALSE(sameBits(one.image(), run(2, {16}, 6).image()));
 }
 
-// A checkpoint taken inside an epoch (5 of 16 samples: factors of epoch 2 learned, epoch 2's sums begun)
-// resumes to the uninterrupted image bit for bit.
+// A checkpoint taken inside an epoch (9 of 16 samples: the factors of epoch 3 learned from epoch 2's 4
+// samples, epoch 3's sums begun) reads back every learned ratio and sum exactly and resumes to the
+// uninterrupted image bit for bit. The image is large enough (32 x 32) that cells have learned factors by
+// then: at 24 x 16 and 5 samples none had its kMinRecords continuations, and a checkpoint that lost or
+// mixed up the factors resumed to the same image.
 TEST(EarsCheckpoint, ResumesInsideAnEpochBitForBit) {
     const Scene scene = loadScene(SYMPHONG_SOURCE_DIR "/scenes/regime/sky-n100.json");
     const Accel accel(scene);
     const auto est = makeEstimator("phong");
-    const RenderSettings rs = earsSettings(24, 16, 16, 3);
-    RenderState whole(24, 16, 16);
+    const RenderSettings rs = earsSettings(32, 32, 16, 3);
+    RenderState whole(32, 32, 16);
     renderSamples(scene, accel, *est, rs, whole, 16);
-    RenderState part(24, 16, 16);
-    renderSamples(scene, accel, *est, rs, part, 5);
-    ASSERT_EQ(part.ears->epoch, 2);
+    RenderState part(32, 32, 16);
+    renderSamples(scene, accel, *est, rs, part, 9);
+    ASSERT_EQ(part.ears->epoch, 3);
+    const std::vector<float>& moment = part.ears->factors.momentRatio;
+    const long learned = std::count_if(moment.begin(), moment.end(), [](float r) { return r >= 0; });
+    EXPECT_GT(learned, 10) << "cells with learned factors at the checkpoint";
     const test::TempDir tmp;
     const std::string path = tmp.file("ears.ckpt");
     const RenderIdentity id{"sky-n100", "0", nlohmann::json::object()};
@@ -364,8 +370,10 @@ TEST(EarsCheckpoint, ResumesInsideAnEpochBitForBit) {
     RenderState resumed;
     readCheckpoint(path, readId, resumed);
     ASSERT_TRUE(resumed.ears);
-    EXPECT_EQ(resumed.ears->epoch, 2);
+    EXPECT_EQ(resumed.ears->epoch, 3);
     EXPECT_EQ(resumed.ears->factors.momentRatio, part.ears->factors.momentRatio);
+    EXPECT_EQ(resumed.ears->factors.varianceRatio, part.ears->factors.varianceRatio);
+    EXPECT_EQ(resumed.ears->factors.scale, part.ears->factors.scale);
     EXPECT_EQ(std::memcmp(resumed.ears->sums.data(), part.ears->sums.data(), part.ears->sums.size() * sizeof(ears::CellSums)), 0);
     renderSamples(scene, accel, *est, rs, resumed, 16);
     EXPECT_TRUE(sameBits(whole.image(), resumed.image()));

@@ -162,6 +162,60 @@ TEST(Progressive, TimeLimitStopsAfterThePassThatReachesIt) {
     EXPECT_EQ(state.samplesReached(), reports.size());
 }
 
+// --target-error with regions: the render stops only when every region's mean is within the target. A
+// 3 x 3 corner of the box needs many more samples than the whole image (at the 4 samples from which the error
+// is trusted its relative error is several times 5%); each region's relative error is computed here from the
+// state's sums (one tile: every pixel has the same n), not by regionError.
+TEST(Progressive, TargetErrorWaitsForItsWorstRegion) {
+    const Scene scene = makeCornellBox();
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    StopRules rules;
+    rules.targetError = 0.05;
+    rules.regions = {{0, 0, 16, 16}, {0, 0, 3, 3}};
+    const RenderSettings s = tinySettings(16, 16, 4096, "independent", 3);
+    RenderState state(16, 16, 4096);
+    ASSERT_EQ(state.tileSamples.size(), 1u);
+    const auto relativeError = [&](const PixelRect& r) {
+        const double n = state.tileSamples[0];
+        double mean = 0, variance = 0;
+        for (int y = r.y; y < r.y + r.height; ++y)
+            for (int x = r.x; x < r.x + r.width; ++x) {
+                const std::size_t p = static_cast<std::size_t>(y * 16 + x);
+                const double sy = luminance(state.sum[p]);
+                mean += sy / n;
+                variance += (state.sumLuminanceSq[p] - sy * sy / n) / (n - 1) / n;  // of the pixel's mean
+            }
+        return std::sqrt(variance) / mean;  // the region's mean is the sum over count: count cancels
+    };
+    ASSERT_EQ(renderProgressive(scene, accel, *est, s, rules, state, nullptr), StopReason::TargetError);
+    EXPECT_LE(relativeError(rules.regions[0]), rules.targetError);
+    EXPECT_LE(relativeError(rules.regions[1]), rules.targetError) << state.samplesReached() << " spp";
+    EXPECT_LT(state.samplesReached(), 4096u);
+    // Power: the whole image alone is within the target far sooner than the corner.
+    RenderState whole(16, 16, 4096);
+    StopRules image = rules;
+    image.regions = {rules.regions[0]};
+    ASSERT_EQ(renderProgressive(scene, accel, *est, s, image, whole, nullptr), StopReason::TargetError);
+    EXPECT_LT(4 * whole.samplesReached(), state.samplesReached());
+}
+
+// Automatic passes under --time: each is sized to the time left at the speed measured so far, so the render
+// ends near the limit, not after a whole pass of rules.passSeconds (4 s here, ten times the limit).
+TEST(Progressive, TimeLimitSizesThePassesToTheTimeLeft) {
+    const Scene scene = makeCornellBox();
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    StopRules rules;
+    rules.timeLimit = 0.4;
+    rules.passSeconds = 4;
+    const RenderSettings s = tinySettings(64, 64, 1000000, "sobol");
+    RenderState state(s.width, s.height, s.spp);
+    ASSERT_EQ(renderProgressive(scene, accel, *est, s, rules, state, nullptr), StopReason::Time);
+    EXPECT_GE(state.seconds, rules.timeLimit);
+    EXPECT_LT(state.seconds, 4 * rules.timeLimit) << state.samplesReached() << " spp";
+}
+
 TEST(Checkpoint, ReadsBackExactlyAndResumesToTheOnePassImage) {
     const Scene scene = makeCornellBox();
     const Accel accel(scene);

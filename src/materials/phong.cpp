@@ -118,8 +118,11 @@ bool clampEnergy(Color& rhoD, Color& rhoS) {
     return clamped;
 }
 
-void metallicRoughnessToPhong(const Color& base, double metallic, double roughness, const Color& f0, Color& rhoD, Color& rhoS,
+void metallicRoughnessToPhong(const Color& baseIn, double metallic, double roughness, const Color& f0In, Color& rhoD, Color& rhoS,
                               double& exponent) {
+    // Copies: a caller may pass its rho_d as the base colour (the FBX and MTL readers do), which the first
+    // assignment would overwrite before rho_s reads it.
+    const Color base = baseIn, f0 = f0In;
     rhoD = base * ((1.0 - metallic) * (1.0 - maxComponent(f0)));
     rhoS = f0 * (1.0 - metallic) + base * metallic;
     const double alpha = std::max(1e-3, roughness * roughness);
