@@ -90,6 +90,8 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    if (log_) [[unlikely]]
+        log_->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, rh.ray.tnear, rh.ray.tfar, false});
     rtcIntersect1(scene_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
@@ -127,6 +129,9 @@ void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, doub
             rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
             rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
         }
+        if (log_) [[unlikely]]
+            for (std::size_t k = 0; k < count; ++k)
+                log_->push_back({{ox, oy, oz}, {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]}, rh.ray.tnear[k], rh.ray.tfar[k], false});
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         rtcIntersect16(valid, scene_, &ctx, &rh);
@@ -158,6 +163,8 @@ bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) co
     ray.mask = 0xFFFFFFFFu;
     ray.id = 0;
     ray.flags = 0;
+    if (log_) [[unlikely]]
+        log_->push_back({{ray.org_x, ray.org_y, ray.org_z}, {ray.dir_x, ray.dir_y, ray.dir_z}, ray.tnear, ray.tfar, true});
     rtcOccluded1(scene_, &ctx, &ray);
     return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }

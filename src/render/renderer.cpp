@@ -31,16 +31,18 @@ void tileRect(int tile, int width, int height, int& x0, int& y0, int& x1, int& y
     x1 = std::min(width, x0 + kRenderTile), y1 = std::min(height, y0 + kRenderTile);
 }
 
+CameraRays::CameraRays(const Camera& cam, int w, int h)
+    : position(cam.position),
+      forward(normalize(cam.target - cam.position)),
+      right(normalize(cross(forward, cam.up))),
+      up(cross(right, forward)),
+      tanHalf(std::tan(0.5 * cam.fovY * kPi / 180.0)),
+      aspect(static_cast<double>(w) / h),
+      width(w),
+      height(h) {}
+
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir) {
-    const Vec3 forward = normalize(cam.target - cam.position);
-    const Vec3 right = normalize(cross(forward, cam.up));
-    const Vec3 up = cross(right, forward);
-    const double tanHalf = std::tan(0.5 * cam.fovY * kPi / 180.0);
-    const double aspect = static_cast<double>(width) / height;
-    const double sx = (2.0 * px / width - 1.0) * tanHalf * aspect;
-    const double sy = (1.0 - 2.0 * py / height) * tanHalf;
-    origin = cam.position;
-    dir = normalize(forward + right * sx + up * sy);
+    CameraRays(cam, width, height)(px, py, origin, dir);
 }
 
 namespace {
@@ -82,6 +84,7 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
     const PathTracer tracer(scene, accel, estimator, settings.trace, learns ? &*state.ears : nullptr);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
+    const CameraRays cameraRays(scene.camera, settings.width, settings.height);
     std::mutex statsMutex, learnMutex;
     // The continuations a tile traced, into the epoch's exact sums (the order of tiles does not matter).
     const auto learn = [&](std::vector<ears::Record>& records) {
@@ -108,7 +111,7 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
                     SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
                     const Point2 jitter = samples.get2D();
                     Vec3 o, d;
-                    cameraRay(scene.camera, settings.width, settings.height, x + jitter.u, y + jitter.v, o, d);
+                    cameraRays(x + jitter.u, y + jitter.v, o, d);
                     Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
                     if (!isFinite(L) || minComponent(L) < 0) {
                         ++stats.badSamples;

@@ -79,7 +79,25 @@ struct RenderResult {
     bool cancelled = false;  ///< stopped early through RenderSettings::cancel: the image is incomplete
 };
 
-/// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image.
+/// The primary rays of a camera for a w x h image: its basis and scale computed once, so that each ray
+/// costs one normalisation (the render's loop makes one per camera sample).
+struct CameraRays {
+    CameraRays(const Camera& cam, int width, int height);
+    /// The ray through image point (px, py) (pixels, origin top-left):
+    ///   d = normalize(forward + right x sx + up x sy),  sx = (2 px / w - 1) tan(fovY/2) w/h,  sy = (1 - 2 py / h) tan(fovY/2).
+    void operator()(double px, double py, Vec3& origin, Vec3& dir) const {
+        const double sx = (2.0 * px / width - 1.0) * tanHalf * aspect;
+        const double sy = (1.0 - 2.0 * py / height) * tanHalf;
+        origin = position;
+        dir = normalize(forward + right * sx + up * sy);
+    }
+    Vec3 position, forward, right, up;
+    double tanHalf, aspect;
+    int width, height;
+};
+
+/// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image (CameraRays made
+/// for one ray: the same values).
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir);
 
 /// Takes every tile of `state` (or those settings.tiles gives out) from its own count of samples up to
