@@ -33,6 +33,8 @@ struct EmitterSample {
     /// The radiance is the emitter's backgroundRadiance(wi), looked up only once the shadow ray is clear
     /// (an environment map: no texture lookup for occluded or back-facing directions); `radiance` unset.
     bool radianceLater = false;
+    /// From a delta emitter (a point or a direction): no MIS, since no path can hit it (set by SceneEmitters::sample).
+    bool delta = false;
 };
 
 class Emitter {
