@@ -13,6 +13,9 @@ namespace symphong {
 
 namespace {
 
+/// Bundles of at most this many rays are traced ray by ray (rtcIntersect1), larger ones as 16-wide packets.
+constexpr std::size_t kSingleRaysUpTo = 4;
+
 void onEmbreeError(void*, RTCError code, const char* message) {
     // Embree calls this on its own threads; we cannot throw through it, so report and abort the query.
     fmt::print(stderr, "symphong: Embree error {}: {}\n", static_cast<int>(code), message ? message : "");
@@ -102,7 +105,9 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
 }
 
 void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found) const {
-    if (!packets_) {
+    // A packet costs about what a full one does however few of its lanes are active: a small bundle (the
+    // two rays of --split 2) goes ray by ray (bench_limit --split 2; docs/performance.md, "The limit").
+    if (!packets_ || n <= kSingleRaysUpTo) {
         for (std::size_t i = 0; i < n; ++i) found[i] = intersect(o, dirs[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
         return;
     }
