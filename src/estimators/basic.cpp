@@ -36,7 +36,7 @@ Vec3 PhongLobeEstimator::sampleDirection(const ShadingContext& ctx, Point2 u) {
     const double pd = diffuseProbability(m);
     // Lobe choice folded into u.u: [0, P_d) -> diffuse, [P_d, 1) -> specular, each rescaled to [0,1).
     if (u.u < pd) return sampleCosineHemisphere({std::min(u.u / pd, kOneBelow), u.v});
-    const Vec3 r(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
+    const Vec3 r = mirrorDirection(ctx.wo);
     return Frame::fromNormal(r).toWorld(samplePhongLobe({std::min((u.u - pd) / (1.0 - pd), kOneBelow), u.v}, m.exponent));
 }
 
@@ -45,7 +45,7 @@ double PhongLobeEstimator::directionPdf(const ShadingContext& ctx, const Vec3& w
     const double pd = diffuseProbability(m);
     double pdf = pd * cosineHemispherePdf(wi);
     if (pd < 1.0) {
-        const Vec3 r(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
+        const Vec3 r = mirrorDirection(ctx.wo);
         pdf += (1.0 - pd) * phongLobePdf(dot(r, wi), m.exponent);
     }
     return pdf;
@@ -59,7 +59,7 @@ void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples
     if (wi.z <= 0 || ctx.wo.z <= 0) return;
     const PhongMaterial& m = *ctx.material;
     const double pd = diffuseProbability(m);
-    const double c = dot(Vec3(-ctx.wo.x, -ctx.wo.y, ctx.wo.z), wi);
+    const double c = dot(mirrorDirection(ctx.wo), wi);
     const bool lobe = c > 0 && (pd < 1.0 || m.hasSpecular());
     const double cn = lobe ? std::pow(c, m.exponent) : 0.0;
     double pdf = pd * (wi.z * kInvPi);
