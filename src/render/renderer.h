@@ -36,6 +36,17 @@ int tileCount(int width, int height);
 /// Pixels [x0, x1) x [y0, y1) of tile `tile` (edge tiles are cut at the image's border).
 void tileRect(int tile, int width, int height, int& x0, int& y0, int& x1, int& y1);
 
+/// Calls fn(x, y, pixel) for every pixel of tile `tile` of a width x height image, row by row, with
+/// pixel = y width + x its index in the image: the one loop over a tile's pixels (the render, the
+/// state's images, the MPI messages).
+template <class Fn>
+void forEachTilePixel(int tile, int width, int height, Fn&& fn) {
+    int x0, y0, x1, y1;
+    tileRect(tile, width, height, x0, y0, x1, y1);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) fn(x, y, static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x));
+}
+
 /// Where a render's tiles come from when a render is shared with other processes (distrib/): every
 /// worker thread calls next() until it returns false, so next() must be thread-safe. A tile's pixels
 /// depend only on its number, never on who renders it or when.
