@@ -56,9 +56,9 @@ BUGS = [
     ("max-depth-ignored", "the command line drops --max-depth", "src/render/settings.cpp",
      "    settings.trace.maxDepth = o.maxDepth;\n", "\n"),
     ("sobol-not-per-pixel", "the Sobol' 2D scramble ignores the pixel and seed (every pixel the same points)",
-     "src/sampling/sampler.cpp",
-     "Point2 SobolSampler::value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {\n    const std::uint64_t h = mixSeed(key, 2 * dim);",
-     "Point2 SobolSampler::value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {\n    const std::uint64_t h = mixSeed(0 * key, 2 * dim);"),
+     "src/sampling/sampler.h",
+     "    static Point2 pairValue(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) {\n        const std::uint64_t h = mixSeed(key, 2 * dim);",
+     "    static Point2 pairValue(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) {\n        const std::uint64_t h = mixSeed(0 * key, 2 * dim);"),
     ("cutout-shadow-rays", "a cut-out that camera rays see but shadow rays ignore", "src/accel/accel.cpp",
      "        rtcSetGeometryOccludedFilterFunction(geom, cutOutFilter);\n", "\n"),
     ("nested-node-transform", "a file whose nodes nest: the parent's transform dropped", "src/scene/assimp_loader.cpp",
@@ -92,8 +92,8 @@ BUGS = [
      "for (int c = 0; c < 3; ++c) out[3 * i + c] =", "for (int c = 0; c < 3; ++c) out[3 * i + 2 - c] ="),
     ("memory-boundary", "an allocation of exactly the memory budget refused", "src/io/memory.cpp",
      "if (bytes <= budget) return;", "if (bytes < budget) return;"),
-    ("sobol-pair-shared-scramble", "a Sobol' pair's y coordinate scrambled with its x coordinate's seed", "src/sampling/sampler.cpp",
-     "fixedToUnit(owenScrambledSobol1(j, high32(h)))};", "fixedToUnit(owenScrambledSobol1(j, low32(h)))};"),
+    ("sobol-pair-shared-scramble", "a Sobol' pair's y coordinate scrambled with its x coordinate's seed", "src/sampling/sampler.h",
+     "fixedToUnit(owenScrambledSobol1(j, static_cast<std::uint32_t>(h >> 32)))};", "fixedToUnit(owenScrambledSobol1(j, static_cast<std::uint32_t>(h)))};"),
 ]
 
 # Tests that fail for any change of output, right or wrong: a bug they alone catch counts as missed.
