@@ -52,7 +52,7 @@ Scene sphereInCornellBox() {
             a.v = {at(i, j), at(i + 1, j), at(i + 1, j + 1)};
             b.v = {at(i, j), at(i + 1, j + 1), at(i, j + 1)};
             a.material = b.material = material;
-            if (j != 0) s.triangles.push_back(a);       // the rows at the poles: one triangle per quad
+            if (j != 0) s.triangles.push_back(a);  // the rows at the poles: one triangle per quad
             if (j != nv - 1) s.triangles.push_back(b);
         }
     return s;
@@ -124,9 +124,9 @@ void benchScene(const std::string& spec, const Options& o) {
     const double embree = replayRate(accel, rays, o.threads, o.repeats);
     if (recorded.stats.rays != rays.size() || r.stats.rays != rays.size())
         fmt::print(stderr, "bench_limit: {} rays recorded, {} and {} counted\n", rays.size(), recorded.stats.rays, r.stats.rays);
-    fmt::print("| {} | {} | {} | {}x{}, {} spp{} | {:.2f} s | {:.1f} M | {:.2f} | {:.2f} | {:.2f} |\n", scene.name,
-               scene.triangles.size(), o.estimator, o.size, o.size, o.spp, o.split > 1 ? fmt::format(", --split {}", o.split) : "",
-               seconds[seconds.size() / 2], static_cast<double>(rays.size()) / 1e6, ours / 1e6, embree / 1e6, ours / embree);
+    fmt::print("| {} | {} | {} | {}x{}, {} spp{} | {:.2f} s | {:.1f} M | {:.2f} | {:.2f} | {:.2f} |\n", scene.name, scene.triangles.size(),
+               o.estimator, o.size, o.size, o.spp, o.split > 1 ? fmt::format(", --split {}", o.split) : "", seconds[seconds.size() / 2],
+               static_cast<double>(rays.size()) / 1e6, ours / 1e6, embree / 1e6, ours / embree);
 }
 
 }  // namespace
@@ -136,7 +136,9 @@ int main(int argc, char** argv) {
     Options o;
     o.threads = static_cast<int>(std::thread::hardware_concurrency());
     std::vector<std::string> scenes = {"cornell", "scenes/cornell-glossy-100.json", "scenes/textured.json", "sphere2m"};
-    app.add_option("--scenes", scenes, "scene specs (sphere2m: the Cornell box with a 2M-triangle sphere)")->delimiter(',')->capture_default_str();
+    app.add_option("--scenes", scenes, "scene specs (sphere2m: the Cornell box with a 2M-triangle sphere)")
+        ->delimiter(',')
+        ->capture_default_str();
     app.add_option("--size", o.size, "image width and height")->capture_default_str();
     app.add_option("--spp", o.spp, "samples per pixel")->capture_default_str();
     app.add_option("--threads", o.threads, "threads of the timed render and of the replay")->capture_default_str();

@@ -94,7 +94,8 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     if (log_) [[unlikely]]
-        log_->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, rh.ray.tnear, rh.ray.tfar, false});
+        log_->push_back(
+            {{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, rh.ray.tnear, rh.ray.tfar, false});
     rtcIntersect1(scene_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
@@ -136,7 +137,8 @@ void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, doub
         }
         if (log_) [[unlikely]]
             for (std::size_t k = 0; k < count; ++k)
-                log_->push_back({{ox, oy, oz}, {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]}, rh.ray.tnear[k], rh.ray.tfar[k], false});
+                log_->push_back(
+                    {{ox, oy, oz}, {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]}, rh.ray.tnear[k], rh.ray.tfar[k], false});
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         rtcIntersect16(valid, scene_, &ctx, &rh);

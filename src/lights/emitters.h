@@ -69,10 +69,10 @@ public:
 
 private:
     const Scene& scene_;
-    std::vector<TriangleLight> triangles_;        ///< the emissive triangles
-    std::vector<std::int32_t> triangleRow_;       ///< triangle -> its row in triangles_, or -1
+    std::vector<TriangleLight> triangles_;          ///< the emissive triangles
+    std::vector<std::int32_t> triangleRow_;         ///< triangle -> its row in triangles_, or -1
     std::vector<std::unique_ptr<Emitter>> others_;  ///< Scene::lights' emitters, then the background
-    std::vector<std::int32_t> entries_;           ///< the sampled: a row of triangles_ (>= 0) or -1 - an index of others_
+    std::vector<std::int32_t> entries_;             ///< the sampled: a row of triangles_ (>= 0) or -1 - an index of others_
     std::int64_t backgroundEntry_ = -1;
     bool samplesTriangles_ = false;
     AliasTable table_;

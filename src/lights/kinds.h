@@ -17,14 +17,14 @@ namespace symphong {
 /// (d = |q - p|, theta_L the angle at q between its normal and -wi); the emission Ke, or Ke x its
 /// texture at q, where a cut-out makes a hole.
 struct TriangleLight {
-    Vec3 v0, v1, v2;            ///< the corners
-    Vec3 normal;                ///< unit geometric normal (counter-clockwise winding)
+    Vec3 v0, v1, v2;  ///< the corners
+    Vec3 normal;      ///< unit geometric normal (counter-clockwise winding)
     double area = 0;
-    double pick = 1;            ///< the probability that light sampling picks it
-    double pickOverArea = 0;    ///< pick / area
-    Color emission;             ///< Ke
-    std::uint32_t prim = 0;     ///< its index in Scene::triangles
-    bool textured = false;      ///< its material has textures (the emission and cut-outs are looked up)
+    double pick = 1;          ///< the probability that light sampling picks it
+    double pickOverArea = 0;  ///< pick / area
+    Color emission;           ///< Ke
+    std::uint32_t prim = 0;   ///< its index in Scene::triangles
+    bool textured = false;    ///< its material has textures (the emission and cut-outs are looked up)
 };
 /// Emissive triangle `prim` of the scene (area and unit geometric normal given), picked with probability 1.
 TriangleLight makeTriangleLight(const Scene& scene, std::uint32_t prim, double area, const Vec3& normal);
