@@ -118,18 +118,18 @@ TEST(Emitters, TriangleDensityIsOneOverItsSolidAngleAndMatchesTheHitDensity) {
     const Scene scene = triangleScene();
     Vec3 normal;
     const double area = triangleArea(scene, scene.triangles[0], normal);
-    const auto e = makeTriangleEmitter(scene, 0, area, normal);
-    EXPECT_NEAR(e->power(1), area * luminance(Color(2, 1, 0.5)), 1e-12);
+    const TriangleLight e = makeTriangleLight(scene, 0, area, normal);
+    EXPECT_NEAR(trianglePower(e), area * luminance(Color(2, 1, 0.5)), 1e-12);
     const Vec3 p(0.3, 0.1, -0.2);
     Rng rng(7, 3);
     const int n = 200000;
     double sumInvPdf = 0, sumSq = 0;
     for (int i = 0; i < n; ++i) {
         EmitterSample s;
-        ASSERT_TRUE(e->sample(p, rng.uniform2(), 1.0, s));
+        ASSERT_TRUE(sampleTriangleLight(e, scene, p, rng.uniform2(), s));
         const double dist = length(s.target - p);
         // The density of a path that hit the same point along the same direction: the other code path.
-        EXPECT_NEAR(e->pdfOfHit(s.wi * 2.0, dist / 2.0, 1.0), s.pdf, 1e-9 * s.pdf);
+        EXPECT_NEAR(triangleLightPdfOfHit(e, s.wi * 2.0, dist / 2.0), s.pdf, 1e-9 * s.pdf);
         EXPECT_EQ(s.radiance, Color(2, 1, 0.5));
         sumInvPdf += 1 / s.pdf;
         sumSq += 1 / (s.pdf * s.pdf);
@@ -139,7 +139,7 @@ TEST(Emitters, TriangleDensityIsOneOverItsSolidAngleAndMatchesTheHitDensity) {
     const double omega = solidAngle(scene.positions[t.v[0]], scene.positions[t.v[1]], scene.positions[t.v[2]], p);
     EXPECT_NEAR(mean, omega, 4 * se) << "E[1/p] is the solid angle the triangle subtends";
     EmitterSample behind;
-    EXPECT_FALSE(e->sample(Vec3(0, 3, 0), {0.3, 0.3}, 1.0, behind)) << "a point behind the emitting side gets nothing";
+    EXPECT_FALSE(sampleTriangleLight(e, scene, Vec3(0, 3, 0), {0.3, 0.3}, behind)) << "a point behind the emitting side gets nothing";
 }
 
 TEST(Emitters, EnvironmentMapDensityMatchesItsHitDensity) {
@@ -195,18 +195,31 @@ TEST(Emitters, LightSamplingChoosesEmittersInProportionToTheirPowers) {
     const SceneEmitters all(scene, areas, normals, true);
     EXPECT_NEAR(all.triangleProbability(0), pTri / (pTri + pPoint + pSun), 1e-12);
     EXPECT_EQ(all.triangleProbability(1), 0.0) << "a wall does not emit";
-    EXPECT_EQ(all.triangle(1), nullptr);
+    EXPECT_FALSE(all.emits(1));
+    EXPECT_TRUE(all.emits(0));
+    // Light sampling's density of the triangle, reached by a path, is pick / area x d^2 / cos.
+    const Vec3 from(0.3, 0.1, -0.2);
+    EmitterSample st;
+    for (int i = 0; i < 1000 && !(st.pdf > 0 && !st.delta && !st.toInfinity && length(st.target - from) > 0); ++i) {
+        st = EmitterSample{};
+        if (!all.sample(from, {(i + 0.5) / 1000, 0.37}, st)) st.pdf = 0;
+    }
+    ASSERT_GT(st.pdf, 0) << "light sampling picks the triangle";
+    EXPECT_NEAR(all.trianglePdfOfHit(0, st.wi, length(st.target - from)), st.pdf, 1e-9 * st.pdf);
+    EXPECT_EQ(all.trianglePdfOfHit(1, st.wi, 1.0), 0.0);
     EXPECT_TRUE(all.samplesTriangles());
     // Without the emitters a path can hit (no NEE of triangles), only the delta lights are sampled.
     const SceneEmitters deltaOnly(scene, areas, normals, false);
     EXPECT_FALSE(deltaOnly.samplesTriangles());
     EXPECT_EQ(deltaOnly.triangleProbability(0), 0.0);
+    // Every light sampled is a delta light: the point light (toward (0,1,0), not to infinity) or the sun.
     int picks[2] = {0, 0};
     for (int i = 0; i < 1000; ++i) {
-        double prob = 0, u = 0;
-        const Emitter& e = deltaOnly.pick((i + 0.5) / 1000, prob, u);
-        ++picks[std::string(e.kind()) == "point" ? 0 : 1];
-        EXPECT_NEAR(prob, std::string(e.kind()) == "point" ? pPoint / (pPoint + pSun) : pSun / (pPoint + pSun), 1e-12);
+        EmitterSample s;
+        ASSERT_TRUE(deltaOnly.sample(Vec3(0.2, -1, 0.1), {(i + 0.5) / 1000, 0.5}, s));
+        EXPECT_TRUE(s.delta);
+        ++picks[s.toInfinity ? 1 : 0];
+        EXPECT_NEAR(s.pdf, s.toInfinity ? pSun / (pPoint + pSun) : pPoint / (pPoint + pSun), 1e-12) << "a delta light's pdf is its pick";
     }
     EXPECT_NEAR(picks[0] / 1000.0, pPoint / (pPoint + pSun), 2e-3);
 }

@@ -5,6 +5,7 @@
 // taken from the statistic's own distribution: a chi-square p-value against alpha = 0.01, Sidak-corrected
 // over the chi-square runs of the test, or 4 standard errors. Each checker is also shown to reject a
 // deliberately broken input, so that it can fail.
+#include "sampling/alias_table.h"
 #include "sampling/lowdiscrepancy.h"
 #include "sampling/sampler.h"
 
@@ -992,4 +993,75 @@ TEST(SampleStream, PatternEntriesFillEachRound) {
             EXPECT_GE(c.p, sidak(runs)) << sampler->name() << ", entries " << entries << ": " << c.str();
         }
     }
+}
+
+// The alias table picks index i with probability w_i / sum w and hands on a u that is uniform within the
+// pick. With u on a grid of N points each frequency is within (entries + 1) / N of its probability (each
+// cell of the table is an interval of u cut in at most two); the remapped u's mean per index within 4
+// standard errors of 1/2 (sd 1/sqrt(12 count)).
+TEST(AliasTable, PicksInProportionToItsWeightsAndRemapsUniformly) {
+    const std::vector<double> w = {3, 0, 1, 6, 0.5, 1e-3, 2};
+    const AliasTable table(w);
+    double total = 0;
+    for (double x : w) total += x;
+    EXPECT_DOUBLE_EQ(table.total(), total);
+    const int n = 200000;
+    std::vector<int> count(w.size(), 0);
+    std::vector<double> sumU(w.size(), 0.0);
+    for (int i = 0; i < n; ++i) {
+        double u = -1;
+        const std::size_t k = table.sample((i + 0.5) / n, u);
+        ASSERT_LT(k, w.size());
+        ASSERT_GE(u, 0.0);
+        ASSERT_LT(u, 1.0);
+        ++count[k];
+        sumU[k] += u;
+    }
+    for (std::size_t k = 0; k < w.size(); ++k) {
+        EXPECT_DOUBLE_EQ(table.pmf(k), w[k] / total);
+        EXPECT_NEAR(count[k] / double(n), w[k] / total, double(w.size() + 1) / n) << "index " << k;
+        if (count[k] > 100) {
+            EXPECT_NEAR(sumU[k] / count[k], 0.5, 4.0 / std::sqrt(12.0 * count[k])) << "index " << k;
+        }
+    }
+    EXPECT_EQ(count[1], 0) << "a zero weight is never chosen";
+    double u = 0;
+    EXPECT_EQ(AliasTable({0.0, 2.0, 0.0}).sample(0.01, u), 1u) << "whatever u, the only weight";
+}
+
+// The Sobol' sampler's inline path (SampleStream without the virtual call, permuteSamples' table fast
+// path) against the definition written out: the same bits for every count, dimension and key tried.
+TEST(LowDiscrepancy, InlineSobolValuesEqualTheirDefinition) {
+    const std::uint32_t counts[] = {1, 2, 3, 16, 64, 100, 128, 1024, 2048, 5000};
+    const std::uint64_t dims[] = {0, 7, 130, (1ull << 40) + 3};
+    for (std::uint64_t key : {std::uint64_t{1}, mixSeed(42, 77), ~std::uint64_t{0}})
+        for (std::uint32_t n : counts)
+            for (std::uint64_t dim : dims)
+                for (std::uint32_t i = 0; i < n; i += 1 + n / 37) {
+                    const std::uint64_t h = mixSeed(key, 2 * dim);
+                    const auto seed = static_cast<std::uint32_t>((h * 0xD6E8FEB86659FD93ull) >> 32);
+                    ASSERT_EQ(permuteSamples(i, n, seed), permuteAny(i, n, seed)) << n << " " << i;
+                    const std::uint32_t j = permuteAny(i, n, seed);
+                    const Point2 p = SobolSampler::pairValue(key, i, n, dim);
+                    ASSERT_EQ(p.u, fixedToUnit(owenScramble(sobolDimension0(j), static_cast<std::uint32_t>(h))));
+                    ASSERT_EQ(p.v, fixedToUnit(owenScramble(sobolDimension1(j), static_cast<std::uint32_t>(h >> 32))));
+                    const std::uint64_t h1 = mixSeed(key, 2 * dim + 1);
+                    const std::uint32_t j1 = permuteAny(i, n, static_cast<std::uint32_t>(h1 >> 32));
+                    ASSERT_EQ(SobolSampler::singleValue(key, i, n, dim),
+                              fixedToUnit(owenScramble(sobolDimension0(j1), static_cast<std::uint32_t>(h1))));
+                }
+    // A stream reads the inline values from a Sobol' sampler and the view's from a JointPairView of it.
+    const auto sobol = makeSampler("sobol", 64, 5);
+    SampleStream s(*sobol, 1234, 17, 6);
+    const Point2 a = s.get2D();
+    const double b = s.get1D();
+    const Point2 a2 = sobol->value2D(sobol->pixelKey(1234), 17, 64, 6);
+    EXPECT_EQ(a.u, a2.u);
+    EXPECT_EQ(a.v, a2.v);
+    EXPECT_EQ(b, sobol->value1D(sobol->pixelKey(1234), 17, 64, 8));
+    const JointPairView joint(*sobol, 6, 0);
+    SampleStream viaJoint = SampleStream(*sobol, 1234, 17, 6).through(joint);
+    const Point2 c = viaJoint.get2D(), c2 = sobol->value2DJoint(sobol->pixelKey(1234), 17, 64, 6, 0);
+    EXPECT_EQ(c.u, c2.u);
+    EXPECT_EQ(c.v, c2.v);
 }

@@ -4,7 +4,7 @@
 // an outgoing direction are tested at several.
 #include "estimators/basic.h"
 #include "math/frame.h"
-#include "sampling/distribution1d.h"
+#include "sampling/alias_table.h"
 #include "sampling/warp.h"
 #include "stats.h"
 #include "test_util.h"
@@ -111,14 +111,15 @@ TEST(Warps, UniformTriangleIsUniform) {
     EXPECT_EQ(r.dof, k * k - 1);
 }
 
-TEST(Warps, Distribution1DFollowsItsWeights) {
+TEST(Warps, AliasTableFollowsItsWeights) {
     const std::vector<double> w = {1.0, 0.0, 3.0, 6.0};
-    const Distribution1D d(w);
+    const AliasTable d(w);
     EXPECT_DOUBLE_EQ(d.pmf(0), 0.1);
     EXPECT_DOUBLE_EQ(d.pmf(1), 0.0);
     Rng rng(8, 8);
     std::vector<double> counts(4, 0.0), expected(4, 0.0);
-    for (int i = 0; i < kSamples; ++i) ++counts[d.sample(rng.uniform())];
+    double remapped = 0;
+    for (int i = 0; i < kSamples; ++i) ++counts[d.sample(rng.uniform(), remapped)];
     for (int k = 0; k < 4; ++k) expected[k] = kSamples * w[k] / 10.0;  // from the weights, not from d.pmf
     const auto r = test::chiSquareCounts(counts, expected, test::sidakAlpha(1));
     EXPECT_TRUE(r.passed) << r.describe();  // fails on any sample of the zero-weight entry

@@ -13,6 +13,9 @@ namespace symphong {
 
 namespace {
 
+/// Bundles of at most this many rays are traced ray by ray (rtcIntersect1), larger ones as 16-wide packets.
+constexpr std::size_t kSingleRaysUpTo = 4;
+
 void onEmbreeError(void*, RTCError code, const char* message) {
     // Embree calls this on its own threads; we cannot throw through it, so report and abort the query.
     fmt::print(stderr, "symphong: Embree error {}: {}\n", static_cast<int>(code), message ? message : "");
@@ -90,6 +93,9 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    if (log_) [[unlikely]]
+        log_->push_back(
+            {{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, rh.ray.tnear, rh.ray.tfar, false});
     rtcIntersect1(scene_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
@@ -100,7 +106,9 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
 }
 
 void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found) const {
-    if (!packets_) {
+    // A packet costs about what a full one does however few of its lanes are active: a small bundle (the
+    // two rays of --split 2) goes ray by ray (bench_limit --split 2; docs/performance.md, "The limit").
+    if (!packets_ || n <= kSingleRaysUpTo) {
         for (std::size_t i = 0; i < n; ++i) found[i] = intersect(o, dirs[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
         return;
     }
@@ -127,6 +135,10 @@ void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, doub
             rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
             rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
         }
+        if (log_) [[unlikely]]
+            for (std::size_t k = 0; k < count; ++k)
+                log_->push_back(
+                    {{ox, oy, oz}, {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]}, rh.ray.tnear[k], rh.ray.tfar[k], false});
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         rtcIntersect16(valid, scene_, &ctx, &rh);
@@ -158,6 +170,8 @@ bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) co
     ray.mask = 0xFFFFFFFFu;
     ray.id = 0;
     ray.flags = 0;
+    if (log_) [[unlikely]]
+        log_->push_back({{ray.org_x, ray.org_y, ray.org_z}, {ray.dir_x, ray.dir_y, ray.dir_z}, ray.tnear, ray.tfar, true});
     rtcOccluded1(scene_, &ctx, &ray);
     return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }

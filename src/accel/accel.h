@@ -1,7 +1,8 @@
 // accel/ — ray queries. Owns the Intel Embree 3 device and scene built from a Scene's triangles, and
 // answers closest-hit and any-hit (shadow) queries for single rays and closest-hit queries for bundles
 // of rays from one origin (16-wide packets). Geometry crosses into float here; everything above it
-// stays in double.
+// stays in double. On request it records every query as Embree was given it (RayQuery), so that bench/
+// can trace a render's own rays again with Embree alone.
 #pragma once
 
 #include "math/vec3.h"
@@ -9,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 struct RTCDeviceTy;
 struct RTCSceneTy;
@@ -19,6 +21,14 @@ struct Hit {
     double t = 0;
     std::uint32_t prim = 0;  ///< triangle index in Scene::triangles
     double u = 0, v = 0;     ///< barycentrics of vertices 1 and 2
+};
+
+/// One query as it reached Embree (float, as the ray structures hold it): a closest-hit ray, or a shadow
+/// (any-hit) ray. A bundle's rays are recorded one by one, as closest-hit rays.
+struct RayQuery {
+    float org[3], dir[3];
+    float tnear, tfar;
+    bool shadow;
 };
 
 class Accel {
@@ -42,10 +52,15 @@ public:
 
     RTCSceneTy* handle() const { return scene_; }
 
+    /// Appends every later query to `log` (nullptr: stops). Not synchronised: record a render with one
+    /// thread. For bench/'s replay; a render that records nothing pays one untaken branch per query.
+    void record(std::vector<RayQuery>* log) { log_ = log; }
+
 private:
     RTCDeviceTy* device_ = nullptr;
     RTCSceneTy* scene_ = nullptr;
     bool packets_ = false;  ///< the device has native or emulated 16-wide packets
+    std::vector<RayQuery>* log_ = nullptr;
 };
 
 /// The version of Embree this program was built with.

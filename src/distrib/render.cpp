@@ -32,13 +32,9 @@ std::vector<double> packTiles(const RenderState& s, const int* tiles, int count)
     for (int i = 0; i < count; ++i) out.push_back(s.tileSamples[static_cast<std::size_t>(tiles[i])]);
     for (int i = 0; i < count; ++i) {
         if (s.tileSamples[static_cast<std::size_t>(tiles[i])] == 0) continue;
-        int x0, y0, x1, y1;
-        tileRect(tiles[i], s.width, s.height, x0, y0, x1, y1);
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-                const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x);
-                out.insert(out.end(), {s.sum[p].x, s.sum[p].y, s.sum[p].z, s.sumSq[p].x, s.sumSq[p].y, s.sumSq[p].z, s.sumLuminanceSq[p]});
-            }
+        forEachTilePixel(tiles[i], s.width, s.height, [&](int, int, std::size_t p) {
+            out.insert(out.end(), {s.sum[p].x, s.sum[p].y, s.sum[p].z, s.sumSq[p].x, s.sumSq[p].y, s.sumSq[p].z, s.sumLuminanceSq[p]});
+        });
     }
     return out;
 }
@@ -49,19 +45,15 @@ void unpackTiles(RenderState& s, const int* tiles, int count, const std::vector<
     for (int i = 0; i < count; ++i) {
         const auto n = static_cast<std::uint32_t>(in[static_cast<std::size_t>(i)]);
         s.tileSamples[static_cast<std::size_t>(tiles[i])] = n;
-        int x0, y0, x1, y1;
-        tileRect(tiles[i], s.width, s.height, x0, y0, x1, y1);
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-                const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x);
-                if (n == 0) {
-                    s.sum[p] = s.sumSq[p] = Color(0.0), s.sumLuminanceSq[p] = 0;
-                    continue;
-                }
-                s.sum[p] = Color(in[k], in[k + 1], in[k + 2]), s.sumSq[p] = Color(in[k + 3], in[k + 4], in[k + 5]);
-                s.sumLuminanceSq[p] = in[k + 6];
-                k += kPixelDoubles;
+        forEachTilePixel(tiles[i], s.width, s.height, [&](int, int, std::size_t p) {
+            if (n == 0) {
+                s.sum[p] = s.sumSq[p] = Color(0.0), s.sumLuminanceSq[p] = 0;
+                return;
             }
+            s.sum[p] = Color(in[k], in[k + 1], in[k + 2]), s.sumSq[p] = Color(in[k + 3], in[k + 4], in[k + 5]);
+            s.sumLuminanceSq[p] = in[k + 6];
+            k += kPixelDoubles;
+        });
     }
 }
 

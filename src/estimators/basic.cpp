@@ -36,7 +36,7 @@ Vec3 PhongLobeEstimator::sampleDirection(const ShadingContext& ctx, Point2 u) {
     const double pd = diffuseProbability(m);
     // Lobe choice folded into u.u: [0, P_d) -> diffuse, [P_d, 1) -> specular, each rescaled to [0,1).
     if (u.u < pd) return sampleCosineHemisphere({std::min(u.u / pd, kOneBelow), u.v});
-    const Vec3 r(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
+    const Vec3 r = mirrorDirection(ctx.wo);
     return Frame::fromNormal(r).toWorld(samplePhongLobe({std::min((u.u - pd) / (1.0 - pd), kOneBelow), u.v}, m.exponent));
 }
 
@@ -45,15 +45,30 @@ double PhongLobeEstimator::directionPdf(const ShadingContext& ctx, const Vec3& w
     const double pd = diffuseProbability(m);
     double pdf = pd * cosineHemispherePdf(wi);
     if (pd < 1.0) {
-        const Vec3 r(-ctx.wo.x, -ctx.wo.y, ctx.wo.z);
+        const Vec3 r = mirrorDirection(ctx.wo);
         pdf += (1.0 - pd) * phongLobePdf(dot(r, wi), m.exponent);
     }
     return pdf;
 }
 
+// pushWeighted(ctx, wi, directionPdf(ctx, wi), out) with one pow instead of two: the mixture density
+//   p = P_d cos(theta)/pi + (1 - P_d) (n+1)/(2 pi) c^n   and the BRDF   f = rho_d/pi + rho_s (n+2)/(2 pi) c^n
+// share c^n, c = cos(alpha) = r . wi (the same value phongCosAlpha gives, so the same bits as the two calls).
 void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const Vec3 wi = sampleDirection(ctx, samples.get2D());
-    pushWeighted(ctx, wi, directionPdf(ctx, wi), out);
+    if (wi.z <= 0 || ctx.wo.z <= 0) return;
+    const PhongMaterial& m = *ctx.material;
+    const double pd = diffuseProbability(m);
+    const double c = dot(mirrorDirection(ctx.wo), wi);
+    const bool lobe = c > 0 && (pd < 1.0 || m.hasSpecular());
+    const double cn = lobe ? std::pow(c, m.exponent) : 0.0;
+    double pdf = pd * (wi.z * kInvPi);
+    if (pd < 1.0) pdf += (1.0 - pd) * (c > 0 ? (m.exponent + 1.0) / kTwoPi * cn : 0.0);
+    if (pdf <= 0) return;
+    Color f = m.rhoD * kInvPi;
+    if (m.hasSpecular() && c > 0) f += m.rhoS * ((m.exponent + 2.0) / kTwoPi * cn);
+    if (isBlack(f)) return;
+    out.push_back({wi, f * (wi.z / pdf), pdf});
 }
 
 double PhongLobeEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const { return wi.z > 0 ? directionPdf(ctx, wi) : 0.0; }

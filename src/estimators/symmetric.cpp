@@ -12,8 +12,6 @@ using namespace separation;
 
 namespace {
 
-Vec3 mirrorOf(const Vec3& wo) { return {-wo.x, -wo.y, wo.z}; }
-
 double frac(double x) {
     const double f = x - std::floor(x);
     return f < 1.0 ? f : 0.0;
@@ -46,7 +44,7 @@ struct PaperTerms {
           rhoS(ctx.material->rhoS * ((ctx.material->exponent + 2.0) / kTwoPi)),
           diffuseScale(kPi / (48.0 * nPrime)),
           specularScale(PaperEstimator::lobeNormalisation(ctx.material->exponent, refined) / (8.0 * nPrime)),
-          lobe(LobeFrame::fromMirror(mirrorOf(ctx.wo))) {}
+          lobe(LobeFrame::fromMirror(mirrorDirection(ctx.wo))) {}
 
     // Each takes the point's map image in octant 0 (computed once per point) and its weight w(u,v).
     /// (1/2) L_tri w(u,v) of Eq. (4), from paperTriangleMap.
@@ -143,7 +141,7 @@ std::uint32_t SymmetricEstimator::spreadSetSize(const ShadingContext& ctx) const
 void SymmetricEstimator::sampleSet(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
     const PhongMaterial& m = *ctx.material;
     const bool specular = m.hasSpecular();
-    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
+    const LobeFrame lobe = LobeFrame::fromMirror(mirrorDirection(ctx.wo));
     const double scale = static_cast<double>(nPrime_);
     const auto push = [&](const Vec3& wi, double dD, double dS) {
         if (wi.z <= 0) return;  // a rotated direction below the surface carries no light (erratum 6)
@@ -200,7 +198,7 @@ void SymmetricEstimator::sample(const ShadingContext& ctx, SampleStream& samples
     const std::uint32_t piece = e % pieces;
     const Point2 p = samples.entryPoint(entries, e / pieces, round);
     const int k = static_cast<int>(piece % 8);
-    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
+    const LobeFrame lobe = LobeFrame::fromMirror(mirrorDirection(ctx.wo));
     Vec3 wi;
     if (piece < 8)
         wi = toOctant(triangleMap(copyPoint(p, k, PieceKind::Triangle)), k);
@@ -216,7 +214,7 @@ void SymmetricEstimator::sample(const ShadingContext& ctx, SampleStream& samples
 }
 
 double SymmetricEstimator::misPdf(const ShadingContext& ctx, const Vec3& wi) const {
-    const LobeFrame lobe = LobeFrame::fromMirror(mirrorOf(ctx.wo));
+    const LobeFrame lobe = LobeFrame::fromMirror(mirrorDirection(ctx.wo));
     const int pieces = ctx.material->hasSpecular() ? 24 : 16;
     const double scale = ctx.branch && mode_ == SymmetricMode::Branch ? static_cast<double>(nPrime_) : 1.0 / pieces;
     return scale * setDensity(ctx, lobe, wi);

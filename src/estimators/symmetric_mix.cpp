@@ -13,8 +13,6 @@ using namespace separation;
 
 namespace {
 
-Vec3 mirrorOf(const Vec3& wo) { return {-wo.x, -wo.y, wo.z}; }
-
 /// u in [lo, lo + width) rescaled onto [0, 1).
 double rescale(double u, double lo, double width) { return std::min((u - lo) / width, kOneBelow); }
 
@@ -66,7 +64,7 @@ Vec3 SymmetricMixEstimator::OrbitCopies::operator()(int j) {
     }
     if (!haveLobe_) {
         lobeDir_ = phongWedgeMap(o_.p, m_.exponent);
-        frame_ = LobeFrame::fromMirror(mirrorOf(wo_));
+        frame_ = LobeFrame::fromMirror(mirrorDirection(wo_));
         haveLobe_ = true;
     }
     return frame_.toLocal(toOctant(lobeDir_, octant));

@@ -1,10 +1,12 @@
-// lights/ — everything that emits light, behind one interface: emissive triangles (a JSON quad light is
-// two of them), point, spot and directional lights, the environment map, the default sky and the
-// constant environment. Each emitter samples a direction towards itself from a shading point with its
-// density, gives the density of a direction along which a path found it, its power for choosing among
-// emitters, and whether it is a delta emitter (a point or a direction, which no path can hit). The
-// path tracer's one direct-lighting routine and its MIS weights (render/path_tracer.cpp) are written
-// against this interface only; lights/emitters.h builds a scene's emitters from the table of kinds.
+// lights/ — everything that emits light: emissive triangles (a JSON quad light is two of them) as rows
+// of one flat table (lights/kinds.h TriangleLight, no object each), and behind one interface point,
+// spot and directional lights, the environment map, the default sky and the constant environment. Each
+// emitter samples a direction towards itself from a shading point with its density, gives the density
+// of a direction along which a path found it, its power for choosing among emitters, and whether it is
+// a delta emitter (a point or a direction, which no path can hit). The path tracer's one
+// direct-lighting routine and its MIS weights (render/path_tracer.cpp) go through SceneEmitters only
+// (lights/emitters.h: the table, the other emitters from the table of kinds, the alias table that
+// chooses among them).
 // Emitters read the scene (scene/) and never trace rays: the caller tests the shadow ray.
 #pragma once
 
@@ -33,6 +35,8 @@ struct EmitterSample {
     /// The radiance is the emitter's backgroundRadiance(wi), looked up only once the shadow ray is clear
     /// (an environment map: no texture lookup for occluded or back-facing directions); `radiance` unset.
     bool radianceLater = false;
+    /// From a delta emitter (a point or a direction): no MIS, since no path can hit it (set by SceneEmitters::sample).
+    bool delta = false;
 };
 
 class Emitter {

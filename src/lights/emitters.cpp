@@ -1,7 +1,5 @@
 #include "lights/emitters.h"
 
-#include "lights/kinds.h"
-
 #include <algorithm>
 #include <stdexcept>
 
@@ -30,46 +28,50 @@ std::unique_ptr<Emitter> makeLightEmitter(const Light& light) {
 }
 
 SceneEmitters::SceneEmitters(const Scene& scene, const std::vector<double>& areas, const std::vector<Vec3>& normals, bool withHittable)
-    : triangleEmitter_(scene.triangles.size(), -1) {
+    : scene_(scene), triangleRow_(scene.triangles.size(), -1) {
     for (std::size_t i = 0; i < scene.triangles.size(); ++i)
         if (scene.materials[scene.triangles[i].material].isEmissive()) {
-            triangleEmitter_[i] = static_cast<std::int32_t>(all_.size());
-            all_.push_back(makeTriangleEmitter(scene, static_cast<std::uint32_t>(i), areas[i], normals[i]));
+            triangleRow_[i] = static_cast<std::int32_t>(triangles_.size());
+            triangles_.push_back(makeTriangleLight(scene, static_cast<std::uint32_t>(i), areas[i], normals[i]));
         }
-    lightsBegin_ = all_.size();
-    for (const Light& l : scene.lights) all_.push_back(makeLightEmitter(l));
-    backgroundIndex_ = all_.size();
-    all_.push_back(makeBackgroundEmitter(scene));
+    for (const Light& l : scene.lights) others_.push_back(makeLightEmitter(l));
+    others_.push_back(makeBackgroundEmitter(scene));
 
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     const double radius = 0.5 * length(hi - lo);
     std::vector<double> power;
-    slot_.assign(all_.size(), -1);
-    for (std::size_t i = 0; i < all_.size(); ++i) {
-        const Emitter& e = *all_[i];
+    if (withHittable)
+        for (std::size_t i = 0; i < triangles_.size(); ++i) {
+            const double p = trianglePower(triangles_[i]);
+            if (!(p > 0)) continue;
+            entries_.push_back(static_cast<std::int32_t>(i));
+            power.push_back(p);
+            samplesTriangles_ = true;
+        }
+    for (std::size_t i = 0; i < others_.size(); ++i) {
+        const Emitter& e = *others_[i];
         if (!withHittable && !e.isDelta()) continue;
         const double p = e.power(radius);
         if (!(p > 0)) continue;
-        slot_[i] = static_cast<std::int64_t>(sampled_.size());
-        sampled_.push_back(i);
+        if (i + 1 == others_.size()) backgroundEntry_ = static_cast<std::int64_t>(entries_.size());
+        entries_.push_back(-1 - static_cast<std::int32_t>(i));
         power.push_back(p);
-        if (i < lightsBegin_) samplesTriangles_ = true;
-        if (i == backgroundIndex_) backgroundSlot_ = slot_[i];
     }
-    distribution_ = Distribution1D(power);
-}
-
-const Emitter& SceneEmitters::pick(double u, double& probability, double& uRemapped) const {
-    const std::size_t i = distribution_.sample(u);
-    probability = distribution_.pmf(i);
-    uRemapped = std::clamp((u - distribution_.cdf(i)) / probability, 0.0, kOneBelow);
-    return *all_[sampled_[i]];
+    table_ = AliasTable(power);
+    // A triangle's density includes the probability of picking it; one light sampling never picks has none.
+    for (TriangleLight& t : triangles_) t.pick = t.pickOverArea = 0;
+    for (std::size_t e = 0; e < entries_.size(); ++e)
+        if (entries_[e] >= 0) {
+            TriangleLight& t = triangles_[static_cast<std::size_t>(entries_[e])];
+            t.pick = table_.pmf(e);
+            t.pickOverArea = t.pick / t.area;
+        }
 }
 
 std::vector<const Emitter*> SceneEmitters::lights() const {
     std::vector<const Emitter*> out;
-    for (std::size_t i = lightsBegin_; i < backgroundIndex_; ++i) out.push_back(all_[i].get());
+    for (std::size_t i = 0; i + 1 < others_.size(); ++i) out.push_back(others_[i].get());
     return out;
 }
 

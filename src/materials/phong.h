@@ -76,8 +76,11 @@ struct PhongMaterial {
 /// reflect(wo) . wi = wo . reflect(wi).
 Color evalPhong(const PhongMaterial& m, const Vec3& wo, const Vec3& wi);
 
-/// The specular lobe's cosine of alpha for a pair of local directions: (2 wo.z Z - wo) . wi, clamped at 0.
-inline double phongCosAlpha(const Vec3& wo, const Vec3& wi) { return std::max(0.0, dot(Vec3(-wo.x, -wo.y, wo.z), wi)); }
+/// The mirror direction of wo about the normal (+Z) in the local frame: r = 2 wo.z Z - wo = (-wo.x, -wo.y, wo.z),
+/// the axis of the specular lobe (the one definition every estimator uses).
+inline Vec3 mirrorDirection(const Vec3& wo) { return {-wo.x, -wo.y, wo.z}; }
+/// The specular lobe's cosine of alpha for a pair of local directions: mirrorDirection(wo) . wi, clamped at 0.
+inline double phongCosAlpha(const Vec3& wo, const Vec3& wi) { return std::max(0.0, dot(mirrorDirection(wo), wi)); }
 
 /// I(n, theta) = integral over the hemisphere of cos^n(alpha) cos(theta') dw', where the lobe axis makes
 /// the angle theta with the normal. Equals 2 pi / (n+2) at theta = 0; smaller once the horizon cuts the

@@ -79,8 +79,7 @@ Color PathTracer::radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_
 // sampling's density of the same direction (0 for a triangle it does not sample); 1 from the camera.
 double PathTracer::emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const {
     if (depth == 0 || !triangleSampling_) return 1.0;
-    const Emitter* e = emitters_.triangle(hit.prim);
-    return powerHeuristic(prevMisPdf, e ? e->pdfOfHit(d, hit.t, emitters_.triangleProbability(hit.prim)) : 0.0);
+    return powerHeuristic(prevMisPdf, emitters_.trianglePdfOfHit(hit.prim, d, hit.t));
 }
 
 // The interpolated vertex normal (or the geometric one) bent by the material's normal or bump map, on
@@ -322,10 +321,8 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
 Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
                               TraceStats& stats, bool shadowed, double misScale) const {
-    double pick = 0, uRemapped = 0;
-    const Emitter& emitter = emitters_.pick(u.u, pick, uRemapped);
     EmitterSample s;
-    if (!emitter.sample(p, {uRemapped, u.v}, pick, s) || dot(s.wi, ng) <= 0) return Color(0.0);
+    if (!emitters_.sample(p, u, s) || dot(s.wi, ng) <= 0) return Color(0.0);
     const Vec3 wiLocal = frame.toLocal(s.wi);
     if (wiLocal.z <= 0) return Color(0.0);
     const Color f = evalPhong(*sc.material, sc.wo, wiLocal) * (shadowed ? bumpShadowing(ng, frame.n, s.wi) : 1.0);
@@ -335,9 +332,9 @@ Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame,
     const bool blocked = s.toInfinity ? accel_.occluded(origin, s.wi, 0.0, std::numeric_limits<double>::infinity())
                                       : accel_.occluded(origin, s.target - origin, 0.0, 1.0 - 1e-5);
     if (blocked) return Color(0.0);
-    if (emitter.isDelta()) return f * s.radiance * (wiLocal.z / s.pdf);
+    if (s.delta) return f * s.radiance * (wiLocal.z / s.pdf);
     const double w = powerHeuristic(s.pdf, estimator_.misPdf(sc, wiLocal) * misScale);
-    return f * (s.radianceLater ? emitter.backgroundRadiance(s.wi) : s.radiance) * (wiLocal.z * w / s.pdf);
+    return f * (s.radianceLater ? emitters_.background().backgroundRadiance(s.wi) : s.radiance) * (wiLocal.z * w / s.pdf);
 }
 
 Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {

@@ -32,13 +32,8 @@ namespace {
 /// Calls fn(pixel index, samples of its tile) for every pixel.
 template <class Fn>
 void forEachPixel(const RenderState& s, Fn&& fn) {
-    for (int t = 0; t < static_cast<int>(s.tileSamples.size()); ++t) {
-        int x0, y0, x1, y1;
-        tileRect(t, s.width, s.height, x0, y0, x1, y1);
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x)
-                fn(static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x), s.tileSamples[t]);
-    }
+    for (int t = 0; t < static_cast<int>(s.tileSamples.size()); ++t)
+        forEachTilePixel(t, s.width, s.height, [&](int, int, std::size_t p) { fn(p, s.tileSamples[static_cast<std::size_t>(t)]); });
 }
 
 }  // namespace

@@ -31,16 +31,18 @@ void tileRect(int tile, int width, int height, int& x0, int& y0, int& x1, int& y
     x1 = std::min(width, x0 + kRenderTile), y1 = std::min(height, y0 + kRenderTile);
 }
 
+CameraRays::CameraRays(const Camera& cam, int w, int h)
+    : position(cam.position),
+      forward(normalize(cam.target - cam.position)),
+      right(normalize(cross(forward, cam.up))),
+      up(cross(right, forward)),
+      tanHalf(std::tan(0.5 * cam.fovY * kPi / 180.0)),
+      aspect(static_cast<double>(w) / h),
+      width(w),
+      height(h) {}
+
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir) {
-    const Vec3 forward = normalize(cam.target - cam.position);
-    const Vec3 right = normalize(cross(forward, cam.up));
-    const Vec3 up = cross(right, forward);
-    const double tanHalf = std::tan(0.5 * cam.fovY * kPi / 180.0);
-    const double aspect = static_cast<double>(width) / height;
-    const double sx = (2.0 * px / width - 1.0) * tanHalf * aspect;
-    const double sy = (1.0 - 2.0 * py / height) * tanHalf;
-    origin = cam.position;
-    dir = normalize(forward + right * sx + up * sy);
+    CameraRays(cam, width, height)(px, py, origin, dir);
 }
 
 namespace {
@@ -82,6 +84,7 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
     const PathTracer tracer(scene, accel, estimator, settings.trace, learns ? &*state.ears : nullptr);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
+    const CameraRays cameraRays(scene.camera, settings.width, settings.height);
     std::mutex statsMutex, learnMutex;
     // The continuations a tile traced, into the epoch's exact sums (the order of tiles does not matter).
     const auto learn = [&](std::vector<ears::Record>& records) {
@@ -95,41 +98,38 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
         if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) return;
         const std::uint32_t from = state.tileSamples[static_cast<std::size_t>(tile)];
         if (from >= upTo) return;
-        int x0, y0, x1, y1;
-        tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
         TraceStats stats;
         PathScratch scratch;
-        for (int y = y0; y < y1; ++y) {
-            for (int x = x0; x < x1; ++x) {
-                const std::uint64_t pixel = static_cast<std::uint64_t>(y) * settings.width + x;
-                Color sum = state.sum[pixel], sumSq = state.sumSq[pixel];
-                double sumYSq = state.sumLuminanceSq[pixel];
-                for (std::uint32_t i = from; i < upTo; ++i) {
-                    SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
-                    const Point2 jitter = samples.get2D();
-                    Vec3 o, d;
-                    cameraRay(scene.camera, settings.width, settings.height, x + jitter.u, y + jitter.v, o, d);
-                    Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
-                    if (!isFinite(L) || minComponent(L) < 0) {
-                        ++stats.badSamples;
-                        L = Color(0.0);
-                    }
-                    sum += L;
-                    sumSq += L * L;
-                    sumYSq += luminance(L) * luminance(L);
+        std::uint64_t pixels = 0;
+        forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) {
+            Color sum = state.sum[pixel], sumSq = state.sumSq[pixel];
+            double sumYSq = state.sumLuminanceSq[pixel];
+            for (std::uint32_t i = from; i < upTo; ++i) {
+                SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
+                const Point2 jitter = samples.get2D();
+                Vec3 o, d;
+                cameraRays(x + jitter.u, y + jitter.v, o, d);
+                Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
+                if (!isFinite(L) || minComponent(L) < 0) {
+                    ++stats.badSamples;
+                    L = Color(0.0);
                 }
-                state.sum[pixel] = sum, state.sumSq[pixel] = sumSq, state.sumLuminanceSq[pixel] = sumYSq;
-                if (scratch.splitRecords.size() >= (1u << 16)) learn(scratch.splitRecords);
+                sum += L;
+                sumSq += L * L;
+                sumYSq += luminance(L) * luminance(L);
             }
-            if (progress) progress->fetch_add(static_cast<std::uint64_t>(x1 - x0) * (upTo - from), std::memory_order_relaxed);
-        }
+            state.sum[pixel] = sum, state.sumSq[pixel] = sumSq, state.sumLuminanceSq[pixel] = sumYSq;
+            if (scratch.splitRecords.size() >= (1u << 16)) learn(scratch.splitRecords);
+            if (progress) progress->fetch_add(upTo - from, std::memory_order_relaxed);
+            ++pixels;
+        });
         learn(scratch.splitRecords);
         state.tileSamples[static_cast<std::size_t>(tile)] = upTo;
         {
             std::lock_guard<std::mutex> lock(statsMutex);
             state.rays += stats.rays;
             state.badSamples += stats.badSamples;
-            const std::uint64_t cameraSamples = static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0) * (upTo - from);
+            const std::uint64_t cameraSamples = pixels * (upTo - from);
             state.samples += cameraSamples;
             state.paths += cameraSamples + stats.extraPaths;
         }

@@ -36,6 +36,17 @@ int tileCount(int width, int height);
 /// Pixels [x0, x1) x [y0, y1) of tile `tile` (edge tiles are cut at the image's border).
 void tileRect(int tile, int width, int height, int& x0, int& y0, int& x1, int& y1);
 
+/// Calls fn(x, y, pixel) for every pixel of tile `tile` of a width x height image, row by row, with
+/// pixel = y width + x its index in the image: the one loop over a tile's pixels (the render, the
+/// state's images, the MPI messages).
+template <class Fn>
+void forEachTilePixel(int tile, int width, int height, Fn&& fn) {
+    int x0, y0, x1, y1;
+    tileRect(tile, width, height, x0, y0, x1, y1);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) fn(x, y, static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x));
+}
+
 /// Where a render's tiles come from when a render is shared with other processes (distrib/): every
 /// worker thread calls next() until it returns false, so next() must be thread-safe. A tile's pixels
 /// depend only on its number, never on who renders it or when.
@@ -79,7 +90,25 @@ struct RenderResult {
     bool cancelled = false;  ///< stopped early through RenderSettings::cancel: the image is incomplete
 };
 
-/// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image.
+/// The primary rays of a camera for a w x h image: its basis and scale computed once, so that each ray
+/// costs one normalisation (the render's loop makes one per camera sample).
+struct CameraRays {
+    CameraRays(const Camera& cam, int width, int height);
+    /// The ray through image point (px, py) (pixels, origin top-left):
+    ///   d = normalize(forward + right x sx + up x sy),  sx = (2 px / w - 1) tan(fovY/2) w/h,  sy = (1 - 2 py / h) tan(fovY/2).
+    void operator()(double px, double py, Vec3& origin, Vec3& dir) const {
+        const double sx = (2.0 * px / width - 1.0) * tanHalf * aspect;
+        const double sy = (1.0 - 2.0 * py / height) * tanHalf;
+        origin = position;
+        dir = normalize(forward + right * sx + up * sy);
+    }
+    Vec3 position, forward, right, up;
+    double tanHalf, aspect;
+    int width, height;
+};
+
+/// Primary ray through image point (px, py) (pixels, origin top-left) of a w x h image (CameraRays made
+/// for one ray: the same values).
 void cameraRay(const Camera& cam, int width, int height, double px, double py, Vec3& origin, Vec3& dir);
 
 /// Takes every tile of `state` (or those settings.tiles gives out) from its own count of samples up to

@@ -292,4 +292,12 @@ constexpr std::uint32_t permuteAny(std::uint32_t i, std::uint32_t n, std::uint32
     return permuteIndex(j, n, hash32(seed ^ 0x68bc21ebu));
 }
 
+/// permuteAny(i, n, seed), the same values, with its common case inline: n a power of two up to 2^10 (a
+/// pixel's spp, or spp x k for --split k, up to 1024) is permutePowerOfTwo's two table look-ups.
+constexpr std::uint32_t permuteSamples(std::uint32_t i, std::uint32_t n, std::uint32_t seed) {
+    if (n > 1 && n <= (1u << detail::GfTables::kMaxK) && (n & (n - 1)) == 0)
+        return permutePowerOfTwo(i, static_cast<std::uint32_t>(std::bit_width(n - 1)), seed);
+    return permuteAny(i, n, seed);
+}
+
 }  // namespace symphong

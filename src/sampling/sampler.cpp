@@ -59,26 +59,9 @@ Point2 StratifiedSampler::value2D(std::uint64_t key, std::uint32_t index, std::u
 // sobol: padded, Owen-scrambled (0,2)-sequence. One 64-bit hash of (pixel key, dimension) gives the
 // scramble seeds; a 32-bit hash of those the permutation's.
 
-double SobolSampler::value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
-    const std::uint64_t h = mixSeed(key, 2 * dim + 1);
-    const std::uint32_t j = permuteAny(index, count, high32(h));
-    return fixedToUnit(owenScrambledSobol0(j, low32(h)));
-}
-
-namespace {
-/// The seed of a pair's permutation of the pixel's sample indices, from its hash.
-std::uint32_t pairPermutationSeed(std::uint64_t h) { return static_cast<std::uint32_t>((h * 0xD6E8FEB86659FD93ull) >> 32); }
-}  // namespace
-
-Point2 SobolSampler::value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
-    const std::uint64_t h = mixSeed(key, 2 * dim);
-    const std::uint32_t j = permuteAny(index, count, pairPermutationSeed(h));
-    return {fixedToUnit(owenScrambledSobol0(j, low32(h))), fixedToUnit(owenScrambledSobol1(j, high32(h)))};
-}
-
 Vec3 SobolSampler::value3D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const {
     const std::uint64_t h = mixSeed(key, 2 * dim);
-    const std::uint32_t j = permuteAny(index, count, pairPermutationSeed(h));
+    const std::uint32_t j = permuteSamples(index, count, pairPermutationSeed(h));
     const std::uint32_t s2 = low32(mixSeed(key, 2 * (dim + 2)));
     return {fixedToUnit(owenScrambledSobol0(j, low32(h))), fixedToUnit(owenScrambledSobol1(j, high32(h))),
             fixedToUnit(owenScramble(kSobolDimension2(j), s2))};
@@ -86,7 +69,7 @@ Vec3 SobolSampler::value3D(std::uint64_t key, std::uint32_t index, std::uint32_t
 
 Point2 SobolSampler::value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim,
                                   std::uint64_t partner) const {
-    const std::uint32_t j = permuteAny(index, count, pairPermutationSeed(mixSeed(key, 2 * partner)));
+    const std::uint32_t j = permuteSamples(index, count, pairPermutationSeed(mixSeed(key, 2 * partner)));
     const std::uint64_t h = mixSeed(key, 2 * dim);
     return {fixedToUnit(owenScramble(kSobolDimension2(j), low32(h))), fixedToUnit(owenScramble(kSobolDimension3(j), high32(h)))};
 }

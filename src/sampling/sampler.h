@@ -15,6 +15,7 @@
 #pragma once
 
 #include "math/vec3.h"
+#include "sampling/lowdiscrepancy.h"
 #include "sampling/rng.h"
 
 #include <cstdint>
@@ -68,6 +69,12 @@ public:
 
     std::uint32_t samplesPerPixel() const { return spp_; }
     std::uint64_t seed() const { return seed_; }
+    /// Whether value1D and value2D are SobolSampler's: SampleStream then computes them inline
+    /// (SobolSampler::pairValue, singleValue), without a virtual call per value.
+    bool isSobol() const { return sobol_; }
+
+protected:
+    bool sobol_ = false;
 
 private:
     std::uint32_t spp_;
@@ -104,10 +111,30 @@ public:
 /// an odd constant; a 1D dimension is owen(sobol0(j), s0) with its own hash.
 class SobolSampler final : public Sampler {
 public:
-    using Sampler::Sampler;
+    SobolSampler(std::uint32_t samplesPerPixel, std::uint64_t seed) : Sampler(samplesPerPixel, seed) { sobol_ = true; }
     std::string_view name() const override { return "sobol"; }
-    double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
-    Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override;
+    double value1D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override {
+        return singleValue(key, index, count, dim);
+    }
+    Point2 value2D(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) const override {
+        return pairValue(key, index, count, dim);
+    }
+    /// value1D: h = mixSeed(key, 2 dim + 1); owen(sobol_0(permute(index, count, high32(h))), low32(h)).
+    static double singleValue(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) {
+        const std::uint64_t h = mixSeed(key, 2 * dim + 1);
+        const std::uint32_t j = permuteSamples(index, count, static_cast<std::uint32_t>(h >> 32));
+        return fixedToUnit(owenScrambledSobol0(j, static_cast<std::uint32_t>(h)));
+    }
+    /// value2D: h = mixSeed(key, 2 dim), j = permute(index, count, pairPermutationSeed(h));
+    /// (owen(sobol_0(j), low32(h)), owen(sobol_1(j), high32(h))).
+    static Point2 pairValue(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim) {
+        const std::uint64_t h = mixSeed(key, 2 * dim);
+        const std::uint32_t j = permuteSamples(index, count, pairPermutationSeed(h));
+        return {fixedToUnit(owenScrambledSobol0(j, static_cast<std::uint32_t>(h))),
+                fixedToUnit(owenScrambledSobol1(j, static_cast<std::uint32_t>(h >> 32)))};
+    }
+    /// The seed of a pair's permutation of the pixel's sample indices, from its hash: the high half of h times an odd constant.
+    static std::uint32_t pairPermutationSeed(std::uint64_t h) { return static_cast<std::uint32_t>((h * 0xD6E8FEB86659FD93ull) >> 32); }
     /// (owen(sobol_2(j), s_0'), owen(sobol_3(j), s_1')), j the partner pair's permuted index, s' hashed from dim.
     Point2 value2DJoint(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim,
                         std::uint64_t partner) const override;
@@ -157,7 +184,13 @@ std::unique_ptr<Sampler> makeSampler(std::string_view name, std::uint32_t sample
 class SampleStream {
 public:
     SampleStream(const Sampler& sampler, std::uint64_t pixel, std::uint32_t index, std::uint64_t dim = 0)
-        : sampler_(&sampler), pixel_(pixel), key_(sampler.pixelKey(pixel)), index_(index), count_(sampler.samplesPerPixel()), dim_(dim) {}
+        : sampler_(&sampler),
+          pixel_(pixel),
+          key_(sampler.pixelKey(pixel)),
+          index_(index),
+          count_(sampler.samplesPerPixel()),
+          sobol_(sampler.isSobol()),
+          dim_(dim) {}
 
     /// Sub-sample j of k of this sample (first-hit splitting): sample index x k + j of a pattern of
     /// count x k samples of the same pixel, at the current dimension. The k sub-samples of the pixel's
@@ -175,13 +208,17 @@ public:
     SampleStream through(const Sampler& sampler) const {
         SampleStream s = *this;
         s.sampler_ = &sampler;
+        s.sobol_ = sampler.isSobol();
         return s;
     }
     const Sampler& sampler() const { return *sampler_; }
     std::uint64_t dimension() const { return dim_; }
-    double get1D() { return sampler_->value1D(key_, index_, count_, dim_++); }
+    double get1D() {
+        const std::uint64_t d = dim_++;
+        return sobol_ ? SobolSampler::singleValue(key_, index_, count_, d) : sampler_->value1D(key_, index_, count_, d);
+    }
     Point2 get2D() {
-        const Point2 p = sampler_->value2D(key_, index_, count_, dim_);
+        const Point2 p = sobol_ ? SobolSampler::pairValue(key_, index_, count_, dim_) : sampler_->value2D(key_, index_, count_, dim_);
         dim_ += 2;
         return p;
     }
@@ -238,6 +275,7 @@ private:
     std::uint64_t pixel_, key_;
     std::uint32_t index_;
     std::uint32_t count_;  ///< samples of the pattern: the pixel's spp, or spp x k for a split stream
+    bool sobol_;           ///< sampler_ is a SobolSampler: its values inline
     std::uint64_t dim_;
 };
 
