@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Plants known bugs in a copy of the source, one at a time, and runs the test suite after each.
 
-Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check] [--reuse]   (--only: these bugs, in this order)
+Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check] [--reuse] [--first]
+       (--only: these bugs, in this order)
 
 For every bug below it applies one exact text replacement to a git worktree of HEAD (beside the
 checkout, as ../<checkout>-planted, so that scenes referring to ../shared resolve), builds it under
@@ -10,7 +11,10 @@ prints is the one in docs/testing.md ("Planted bugs"). A bug whose text is no lo
 reported as STALE (the code moved; update the replacement), never silently skipped. A bug that no test
 catches is reported as MISSED and makes the script exit 1; so is one that only the golden images (tests/golden) or
 python.test_docs catch, since those fail for any change of output, right or wrong. `--check` only checks
-that every planted text is still in the source, once.
+that every planted text is still in the source, once. `--first` answers only whether a bug is caught: with a
+bug planted, ctest runs without the golden/docs tests and stops at the first failure (`--stop-on-failure`), so
+a row names the first test that failed (or two, with --jobs 2) rather than all of them; the clean tree still
+runs the whole suite. A pass over all bugs takes hours, not days, this way.
 """
 import argparse
 import os
@@ -211,9 +215,11 @@ def build(jobs):
     return run(["ninja", "-C", BUILD, f"-j{jobs}"], ROOT)
 
 
-def ctest(jobs, shared):
+def ctest(jobs, shared, first=False):
     env = dict(os.environ, SYMPHONG_SCENES=shared, SYMPHONG_REQUIRE_SCENES="1")
-    r = subprocess.run(["ctest", "--test-dir", BUILD, f"-j{jobs}", "--timeout", "900"], cwd=ROOT, stdout=subprocess.PIPE,
+    # --first: only the tests that count, stopping at the first that fails (ctest's -E takes the same regex).
+    extra = ["--stop-on-failure", "-E", NOT_INDEPENDENT.pattern] if first else []
+    r = subprocess.run(["ctest", "--test-dir", BUILD, f"-j{jobs}", "--timeout", "900"] + extra, cwd=ROOT, stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, text=True, env=env)
     # The list after "The following tests FAILED:"; a value-parameterized test's line carries a
     # "# GetParam() = ..." comment between its name and its status, so only the name is matched.
@@ -230,6 +236,8 @@ def main():
     ap.add_argument("--reuse", action="store_true",
                     help="keep the worktree and build an earlier run left (its commit, not HEAD) and skip the clean-tree "
                          "test run, which that run made; the commit is printed")
+    ap.add_argument("--first", action="store_true",
+                    help="with a bug planted, stop at the first failing test that counts (whether it is caught, not by what)")
     args = ap.parse_args()
     only = set(filter(None, args.only.split(",")))
     if args.check:
@@ -268,7 +276,7 @@ def main():
                 rows.append((name, what, "does not compile: " + b.stdout[-300:].replace("\n", " ")))
                 print(f"{name}: {rows[-1][2]}", file=sys.stderr, flush=True)
                 continue
-            code, failed = ctest(args.jobs, shared)
+            code, failed = ctest(args.jobs, shared, args.first)
             independent = [t for t in failed if not NOT_INDEPENDENT.match(t)]
             others = len(failed) - len(independent)
             if independent:
