@@ -173,9 +173,10 @@ TEST(EarsLearn, FirstHitFactorsAreTheModelsOptimumInOneEpoch) {
         for (int i = 0; i < vertices; ++i) {
             // Two continuations a vertex, values m +- sqrt(v / 2): sample variance exactly v, rays C_c each.
             const double m = 3 + 0.001 * (i % 7), d = std::sqrt(c.v / 2);
-            l.add({c.p, m - d, static_cast<std::uint64_t>(c.cost), ears::Section::FirstHit});
-            l.add({c.p, m + d, static_cast<std::uint64_t>(c.cost), ears::Section::FirstHit});
-            l.add({c.p, c.v, 1, ears::Section::FirstHitVertex});
+            const auto cell = static_cast<std::uint32_t>(grid.cell(c.p, ears::Grid::kLevels - 1));
+            l.add({cell, m - d, static_cast<std::uint64_t>(c.cost), ears::Section::FirstHit});
+            l.add({cell, m + d, static_cast<std::uint64_t>(c.cost), ears::Section::FirstHit});
+            l.add({cell, c.v, 1, ears::Section::FirstHitVertex});
         }
         V += c.n * c.v / 2;
         C += c.n * 2 * c.cost;
@@ -239,6 +240,30 @@ TEST(EarsSplitDirections, FollowTheEstimatorsDensity) {
     }
 }
 
+// Records are kept while an epoch follows: six samples of a 16-spp render (inside epoch [4, 8), which
+// epoch [8, 16) learns from) leave sums; the same six samples of an 8-spp render (the same epoch, now the
+// last) leave none, and the image is the same either way (records change no sample).
+TEST(EarsRender, OnlyTheLastEpochGoesUnrecorded) {
+    const Scene scene = test::makeFurnaceSphere(1.0, 0.5);
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    std::size_t recorded[2] = {0, 0};
+    Image images[2];
+    for (int i = 0; i < 2; ++i) {
+        const std::uint32_t spp = i == 0 ? 16 : 8;
+        RenderSettings rs = earsSettings(8, 8, spp, 91, "independent");
+        RenderState state(8, 8, spp);
+        renderSamples(scene, accel, *est, rs, state, 6);
+        ASSERT_TRUE(state.ears);
+        EXPECT_EQ(state.ears->epoch, 2);
+        for (const ears::CellSums& c : state.ears->sums) recorded[i] += c.count;
+        images[i] = state.image();
+    }
+    EXPECT_GT(recorded[0], 8u * 8u * 2u);  // at least one continuation per camera sample of the epoch so far
+    EXPECT_EQ(recorded[1], 0u);
+    EXPECT_EQ(images[0].pixels, images[1].pixels);
+}
+
 // The closed furnace (radiance Le / (1 - a) everywhere inside) with EARS's factors at every vertex: the
 // mean of 8 repeats within Student's t at the 4-sigma tail, and the render did learn and split.
 TEST(EarsRender, TheClosedFurnaceKeepsItsClosedForm) {
@@ -254,7 +279,9 @@ TEST(EarsRender, TheClosedFurnaceKeepsItsClosedForm) {
         RenderState state(8, 8, 64);
         renderSamples(scene, accel, *est, rs, state, 64);
         ASSERT_TRUE(state.ears);
-        EXPECT_EQ(state.ears->epoch, 6);  // epochs [0,2) [2,4) ... [32,64): learned five times
+        EXPECT_EQ(state.ears->epoch, 5);  // epochs [0,2) [2,4) ... [32,64): learned five times (not after the last)
+        // The last epoch, [32,64), has no epoch after it: its continuations are not recorded.
+        for (const ears::CellSums& c : state.ears->sums) ASSERT_TRUE(c.empty());
         EXPECT_FALSE(state.ears->factors.empty());
         EXPECT_EQ(state.badSamples, 0u);
         const Image img = state.image();

@@ -36,12 +36,13 @@ double powerHeuristic(double a, double b) {
 }  // namespace
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings,
-                       const ears::Learning* learning)
+                       const ears::Learning* learning, bool records)
     : scene_(scene),
       accel_(accel),
       estimator_(estimator),
       settings_(settings),
       learning_(settings.splitting == SplittingMode::Ears ? learning : nullptr),
+      records_(records),
       areas_(triangleAreas(scene, geometricNormals_)),
       emitters_(scene, areas_, geometricNormals_, settings.nextEvent && estimator.combinesWithLightSampling()),
       triangleSampling_(emitters_.samplesTriangles()),
@@ -138,13 +139,15 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     SampleStream& samples = pc.samples;
     const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
     // --splitting ears decides the vertex's continuations before light sampling, whose MIS weight needs q.
-    const double q = learning_ ? continuationFactor(p, throughput, depth) : 0.0;
+    // Its finest cell of the learned grid, found once for the factor and the continuations' records.
+    const std::size_t cell = learning_ ? learning_->grid.cell(p, ears::Grid::kLevels - 1) : 0;
+    const double q = learning_ ? continuationFactor(cell, throughput, depth) : 0.0;
     if (lightSampling_) {
         samples.setDimension(vertexDim + SampleDimensions::kLight);
         const double misScale = q > 0 ? q : depth == 0 ? settings_.firstHitSplit : 1;
         L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats, shadowed, misScale);
     }
-    if (q > 0) return L + splitContinuations(sc, frame, ng, p, shadowed, q, depth, path, throughput, pc);
+    if (q > 0) return L + splitContinuations(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
     return L + continuePath(sc, frame, ng, p, shadowed, depth, path, throughput, pc);
 }
 
@@ -247,15 +250,15 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
     }
 }
 
-double PathTracer::continuationFactor(const Vec3& p, const Color& throughput, int depth) const {
+double PathTracer::continuationFactor(std::size_t finest, const Color& throughput, int depth) const {
     const ears::Factors& f = learning_->factors;
     if (depth == 0) {
         // The first hit's factor is solved for its cell (splitting/ears.h learnFactors); where no cell has
         // one yet, two continuations, so that the next epoch learns the within-vertex variance there.
-        const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.firstHit, learning_->grid, p);
-        return cell >= 0 ? std::clamp(static_cast<double>(f.firstHit[static_cast<std::size_t>(cell)]), 1.0, ears::kMaxFactor) : 2.0;
+        const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.firstHit, finest);
+        return cell >= 0 ? std::clamp(static_cast<double>(f.firstHit[static_cast<std::size_t>(cell)]), 1.0, ears::kMaxFactor) : ears::kUnknownFirstHitFactor;
     }
-    const long cell = f.empty() ? -1 : f.cellAt(learning_->grid, p);
+    const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.momentRatio, finest);
     double q = 1;
     if (cell >= 0) {
         const auto c = static_cast<std::size_t>(cell);
@@ -268,12 +271,16 @@ double PathTracer::continuationFactor(const Vec3& p, const Color& throughput, in
     return q;
 }
 
-Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, double q,
+Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell,
+                                     bool shadowed, double q,
                                      int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const {
     SampleStream& samples = pc.samples;
-    samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
     const double whole = std::floor(q);
-    const auto n = static_cast<std::uint32_t>(whole) + (samples.get1D() < q - whole ? 1u : 0u);  // E[n] = q
+    std::uint32_t n = static_cast<std::uint32_t>(whole);  // E[n] = q: one more with probability q - floor(q)
+    if (q > whole) {  // (a whole q, 1 above all, draws nothing: u < 0 never holds)
+        samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
+        n += samples.get1D() < q - whole ? 1u : 0u;
+    }
     // Splitting (q >= 1, so n >= 1): the mean of the n continuations, unbiased for any n drawn apart from
     // their values, and without the variance that weights 1/q would add (n / q varies: mean^2 Var(n) / q^2,
     // which dwarfs the continuations' own variance under smooth light). Roulette (q < 1): 1/q.
@@ -303,14 +310,16 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
             value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / divisor, pc);
             ++traced;
         }
-        const double y = luminance(value);
-        pc.scratch.splitRecords.push_back({p, y, pc.stats.rays - raysBefore, section});
-        sum += y, squares += y * y;
+        if (records_) {
+            const double y = luminance(value);
+            pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), y, pc.stats.rays - raysBefore, section});
+            sum += y, squares += y * y;
+        }
         L += value / divisor;
     }
-    if (depth == 0) {
+    if (depth == 0 && records_) {
         const double within = n > 1 ? std::max(0.0, squares - sum * sum / n) / (n - 1.0) : 0.0;
-        pc.scratch.splitRecords.push_back({p, within, n > 1 ? 1u : 0u, ears::Section::FirstHitVertex});
+        pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), within, n > 1 ? 1u : 0u, ears::Section::FirstHitVertex});
     }
     if (traced > 1) pc.stats.extraPaths += traced - 1;
     return L;

@@ -111,9 +111,10 @@ struct PathScratch {
 class PathTracer {
 public:
     /// `learning`: with settings.splitting Ears, the factors of the epoch being rendered (their grid and
-    /// factors are read, never written; continuations are reported in PathScratch::splitRecords).
+    /// factors are read, never written; continuations are reported in PathScratch::splitRecords unless
+    /// `records` is false: in the render's last epoch, whose records no later epoch would learn from).
     PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings,
-               const ears::Learning* learning = nullptr);
+               const ears::Learning* learning = nullptr, bool records = true);
 
     /// Radiance arriving at the camera along o + t d, every decision drawn from `samples` (one camera
     /// sample's stream) at the dimensions of SampleDimensions.
@@ -145,16 +146,17 @@ private:
     /// first hit with --split k), each past Russian roulette by throughput.
     Color continuePath(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, int depth,
                        std::uint64_t path, const Color& throughput, PathContext& pc) const;
-    /// --splitting ears: the factor q of a vertex at p with this throughput (splitting/ears.h, at least 1
+    /// --splitting ears: the factor q of a vertex in finest cell `finest` with this throughput (splitting/ears.h, at least 1
     /// before the roulette depth; where no cell has an estimate yet, 1 before the roulette depth and the
     /// throughput's largest component, at most 0.95, from it on).
-    double continuationFactor(const Vec3& p, const Color& throughput, int depth) const;
-    /// --splitting ears: floor(q + u) continuations, weighted 1/q, their directions' MIS densities times
-    /// q; each is reported with its value and rays in scratch.splitRecords. Continuation j >= 1 starts a
+    double continuationFactor(std::size_t finest, const Color& throughput, int depth) const;
+    /// --splitting ears: floor(q + u) = n continuations, averaged (weight 1/n; under roulette, q < 1,
+    /// 1/q), their directions' MIS densities times q; each is reported with its value and rays in
+    /// scratch.splitRecords (in cell `cell`, the vertex's finest) unless this is the render's last epoch. Continuation j >= 1 starts a
     /// path of its own (SampleDimensions::splitPath), and at the first hit reads the estimator from a
     /// block of its own (SampleDimensions::firstHitEstimator): no two calls in a pixel share a number.
-    Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, double q, int depth,
-                             std::uint64_t path, const Color& throughput, PathContext& pc) const;
+    Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
+                             double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
     void firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const;
     /// Next-event estimation: one emitter chosen in proportion to its power, one direction towards it
@@ -174,6 +176,7 @@ private:
     const Estimator& estimator_;
     TraceSettings settings_;
     const ears::Learning* learning_;
+    bool records_;                        ///< --splitting ears: whether continuations are reported (not in the last epoch)
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
     std::vector<std::uint8_t> textured_;  ///< per material: whether it has any texture (one byte to test on the hot path)
     std::vector<double> areas_;

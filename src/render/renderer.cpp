@@ -81,7 +81,10 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
         scene.bounds(lo, hi);
         state.ears.emplace(ears::Grid(lo, hi));
     }
-    const PathTracer tracer(scene, accel, estimator, settings.trace, learns ? &*state.ears : nullptr);
+    // The last epoch of the render (the one that reaches its spp) has no epoch after it to learn from its
+    // records: it traces without them (the same in every run of this spp, resumed or not).
+    const bool records = learns && ears::epochEnd(ears::epochStart(state.ears->epoch)) < state.sppBound;
+    const PathTracer tracer(scene, accel, estimator, settings.trace, learns ? &*state.ears : nullptr, records);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
     const CameraRays cameraRays(scene.camera, settings.width, settings.height);
@@ -141,7 +144,10 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
 }
 
 bool endEpochIfDone(RenderState& state) {
-    if (!state.ears || state.samplesReached() < ears::epochEnd(ears::epochStart(state.ears->epoch))) return false;
+    if (!state.ears) return false;
+    const std::uint32_t end = ears::epochEnd(ears::epochStart(state.ears->epoch));
+    // The render's last epoch (it reaches the spp) has no successor to learn for.
+    if (state.samplesReached() < end || end >= state.sppBound) return false;
     state.ears->advance(state.variancePerSample(), state.rays, state.samples);
     return true;
 }

@@ -93,23 +93,6 @@ std::size_t Grid::cellCount() {
     return n;
 }
 
-std::size_t Grid::firstCell(int level) {
-    std::size_t first = 0;
-    for (int l = 0; l < level; ++l) first += static_cast<std::size_t>(kResolution[l]) * kResolution[l] * kResolution[l];
-    return first;
-}
-
-std::size_t Grid::cell(const Vec3& p, int level) const {
-    const int r = kResolution[static_cast<std::size_t>(level)];
-    const auto index = [&](double x, double lo, double inv) {
-        const double t = (x - lo) * inv * r;
-        if (!(t > 0)) return std::size_t{0};  // NaN too
-        return static_cast<std::size_t>(std::min(t, r - 1.0));
-    };
-    const std::size_t ix = index(p.x, lo_.x, inverseSize_.x), iy = index(p.y, lo_.y, inverseSize_.y), iz = index(p.z, lo_.z, inverseSize_.z);
-    return firstCell(level) + (iz * static_cast<std::size_t>(r) + iy) * static_cast<std::size_t>(r) + ix;
-}
-
 std::size_t Grid::ancestor(std::size_t finest, int level) {
     const auto fine = static_cast<std::size_t>(kResolution[kLevels - 1]);
     const std::size_t i = finest - firstCell(kLevels - 1), ix = i % fine, iy = i / fine % fine, iz = i / (fine * fine);
@@ -118,8 +101,7 @@ std::size_t Grid::ancestor(std::size_t finest, int level) {
     return firstCell(level) + (iz / shift * r + iy / shift) * r + ix / shift;
 }
 
-long Factors::cellAt(const std::vector<float>& table, const Grid& grid, const Vec3& p) {
-    const std::size_t finest = grid.cell(p, Grid::kLevels - 1);
+long Factors::cellAt(const std::vector<float>& table, std::size_t finest) {
     if (table[finest] >= 0) return static_cast<long>(finest);
     for (int level = Grid::kLevels - 2; level >= 0; --level) {
         const std::size_t c = Grid::ancestor(finest, level);

@@ -10,6 +10,7 @@
 
 #include "math/vec3.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -34,6 +35,10 @@ namespace ears {
 inline constexpr double kMinFactor = 0.05;       ///< the least factor: a continuation survives at least 1 in 20
 inline constexpr double kMaxFactor = 8;          ///< the most continuations a vertex gets
 inline constexpr std::uint64_t kMinRecords = 32;  ///< a cell's estimate is used from this many continuations on
+/// The first hit's factor where no cell has an estimate yet (all of epoch 0): pairs of continuations, for
+/// the next epoch to learn the within-vertex variance from. (1.5, pairs at every other vertex, was
+/// measured worse on five of six scenes of scripts/ears-study.sh: sky-n10 1.01x plain phong against 1.27x.)
+inline constexpr double kUnknownFirstHitFactor = 2;
 
 /// The efficiency-optimal factor of a vertex (EARS section 4, for the image's MSE):
 ///   q = T sqrt(S / C_x) sqrt(C / V),
@@ -80,10 +85,25 @@ public:
 
     /// Cells of every level together (37,440).
     static std::size_t cellCount();
-    /// The index of `p`'s cell at `level` (points outside the box: its nearest cell).
-    std::size_t cell(const Vec3& p, int level) const;
+    /// The index of `p`'s cell at `level` (points outside the box: its nearest cell). Inline: once per
+    /// path vertex.
+    std::size_t cell(const Vec3& p, int level) const {
+        const int r = kResolution[static_cast<std::size_t>(level)];
+        const auto index = [r](double x, double lo, double inv) {
+            const double t = (x - lo) * inv * r;
+            if (!(t > 0)) return std::size_t{0};  // NaN too
+            return static_cast<std::size_t>(std::min(t, r - 1.0));
+        };
+        const std::size_t ix = index(p.x, lo_.x, inverseSize_.x), iy = index(p.y, lo_.y, inverseSize_.y),
+                          iz = index(p.z, lo_.z, inverseSize_.z);
+        return firstCell(level) + (iz * static_cast<std::size_t>(r) + iy) * static_cast<std::size_t>(r) + ix;
+    }
     /// The first cell of `level` (cells of a level are numbered x fastest, then y, then z).
-    static std::size_t firstCell(int level);
+    static constexpr std::size_t firstCell(int level) {
+        std::size_t first = 0;
+        for (int l = 0; l < level; ++l) first += static_cast<std::size_t>(kResolution[l]) * kResolution[l] * kResolution[l];
+        return first;
+    }
     /// The cell of `level` that holds cell `finest` of the finest level.
     static std::size_t ancestor(std::size_t finest, int level);
     const Vec3& lo() const { return lo_; }
@@ -113,7 +133,10 @@ struct Factors {
     bool empty() const { return momentRatio.empty(); }
     /// The cell whose entry of `table` (momentRatio or firstHit) a vertex at p uses: its finest cell with
     /// an estimate; -1 when none has one.
-    static long cellAt(const std::vector<float>& table, const Grid& grid, const Vec3& p);
+    static long cellAt(const std::vector<float>& table, std::size_t finest);
+    static long cellAt(const std::vector<float>& table, const Grid& grid, const Vec3& p) {
+        return cellAt(table, grid.cell(p, Grid::kLevels - 1));
+    }
     long cellAt(const Grid& grid, const Vec3& p) const { return cellAt(momentRatio, grid, p); }
 };
 

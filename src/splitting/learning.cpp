@@ -18,13 +18,13 @@ std::uint32_t epochStart(int epoch) { return epoch == 0 ? 0u : epoch >= 32 ? 0xf
 
 void Learning::add(const Record& r) {
     CellSums* section = sums.data() + Grid::cellCount() * static_cast<std::size_t>(r.section);
-    section[grid.cell(r.position, Grid::kLevels - 1)].add(r.value, r.rays);  // the coarser cells at the epoch's end
+    section[r.cell].add(r.value, r.rays);  // the coarser cells at the epoch's end
 }
 
 void Learning::add(const std::vector<Record>& records) {
     constexpr std::size_t kAhead = 16;
     const auto cellOf = [&](const Record& r) {
-        return Grid::cellCount() * static_cast<std::size_t>(r.section) + grid.cell(r.position, Grid::kLevels - 1);
+        return Grid::cellCount() * static_cast<std::size_t>(r.section) + r.cell;
     };
     std::array<std::size_t, kAhead> ring{};
     const std::size_t n = records.size();

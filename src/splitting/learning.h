@@ -14,12 +14,13 @@
 
 namespace symphong::ears {
 
-/// One continuation as the path tracer reports it: where its vertex was, what it brought back (the
+/// One continuation as the path tracer reports it: its vertex's finest cell (Grid::cell at the finest
+/// level, found once for the vertex's factor), what it brought back (the
 /// luminance of its estimate, before the vertex's 1/q) and the rays it took; or, in the FirstHitVertex
 /// section, one first-hit vertex: its continuations' sample variance and rays = 1 when it had two or
 /// more continuations (else 0 and 0).
 struct Record {
-    Vec3 position;
+    std::uint32_t cell = 0;
     double value = 0;
     std::uint64_t rays = 0;
     Section section = Section::Deeper;
