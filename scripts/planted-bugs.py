@@ -1,7 +1,9 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plants known bugs in a copy of the source, one at a time, and runs the test suite after each.
+(Debian's Python, as CI has it: under a pyenv `python3` the shims put that Python first on the PATH of
+every test, and Blender, which blender.addon starts, then imports from it and finds no numpy.)
 
-Usage: python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check] [--reuse] [--first]
+Usage: /usr/bin/python3 scripts/planted-bugs.py [--only NAME,...] [--jobs N] [--check] [--reuse] [--first]
        (--only: these bugs, in this order)
 
 For every bug below it applies one exact text replacement to a git worktree of HEAD (beside the

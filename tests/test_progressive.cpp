@@ -210,10 +210,25 @@ TEST(Progressive, TimeLimitSizesThePassesToTheTimeLeft) {
     rules.timeLimit = 0.4;
     rules.passSeconds = 4;
     const RenderSettings s = tinySettings(64, 64, 1000000, "sobol");
+    {  // A real render: it stops on time, within a generous bound (wall time on a busy machine).
+        RenderState state(s.width, s.height, s.spp);
+        ASSERT_EQ(renderProgressive(scene, accel, *est, s, rules, state, nullptr), StopReason::Time);
+        EXPECT_GE(state.seconds, rules.timeLimit);
+        EXPECT_LT(state.seconds, 10 * rules.timeLimit) << state.samplesReached() << " spp";
+    }
+    // The sizing itself, on a clock of its own (each sample per pixel takes exactly 1 ms, whatever the
+    // machine's load): the first pass is 1 spp, the second fills the time left, 399 spp, and the render
+    // stops at exactly 0.4 s. Sized by passSeconds alone, the second pass would be 3999 spp (4 s).
     RenderState state(s.width, s.height, s.spp);
-    ASSERT_EQ(renderProgressive(scene, accel, *est, s, rules, state, nullptr), StopReason::Time);
-    EXPECT_GE(state.seconds, rules.timeLimit);
-    EXPECT_LT(state.seconds, 4 * rules.timeLimit) << state.samplesReached() << " spp";
+    std::vector<std::uint32_t> passes;
+    const PassRunner clock = [&](RenderState& st, std::uint32_t upTo) {
+        passes.push_back(upTo - st.samplesReached());
+        st.seconds += 0.001 * (upTo - st.samplesReached());
+        std::fill(st.tileSamples.begin(), st.tileSamples.end(), upTo);
+    };
+    ASSERT_EQ(renderProgressive(scene, accel, *est, s, rules, state, nullptr, nullptr, clock), StopReason::Time);
+    EXPECT_EQ(passes, (std::vector<std::uint32_t>{1, 399}));
+    EXPECT_NEAR(state.seconds, rules.timeLimit, 1e-9);
 }
 
 TEST(Checkpoint, ReadsBackExactlyAndResumesToTheOnePassImage) {
