@@ -1,8 +1,7 @@
 #include "distrib/render.h"
 
-#include "io/input_error.h"
+#include "splitting/learning.h"
 
-#include <fmt/format.h>
 #include <mpi.h>
 
 #include <algorithm>
@@ -21,6 +20,7 @@ constexpr int kTagGrant = 102;       ///< 0 -> rank: {first tile, count}; count 
 constexpr int kTagTiles = 103;       ///< rank -> 0: the numbers of the tiles it rendered
 constexpr int kTagPixels = 104;      ///< rank -> 0: their state (packTiles), after their sample counts
 constexpr int kTagGrantState = 105;  ///< 0 -> rank: the granted tiles' state (packTiles), after the grant
+constexpr int kTagLearning = 106;    ///< rank -> 0: --splitting ears: its sums of the epoch's records (ears::CellSums)
 
 /// Doubles a pixel takes in a message: its sum, sum of squares (3 each) and sum of squared luminance.
 constexpr std::size_t kPixelDoubles = 7;
@@ -201,20 +201,57 @@ void gatherTiles(const MpiJob& job, RenderState& state, std::vector<int>& tilesP
     }
 }
 
-}  // namespace
-
-void requireOneRankForEars(const MpiJob& job, const RenderSettings& settings) {
-    if (job.active() && job.size() > 1 && settings.trace.splitting == SplittingMode::Ears)
-        throw InputError(fmt::format("--splitting ears runs in one process: what it learns is not shared among MPI ranks yet (this job has "
-                                     "{}); run it with one rank, or without --splitting ears",
-                                     job.size()));
+/// --splitting ears: what a rank needs of rank 0's learning to render an epoch (its grid's box, the epoch
+/// and its factors) sent to every rank, whose own sums start empty. Rank 0's learning is the render's:
+/// it may come from a checkpoint.
+void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
+    if (!state.ears) {
+        Vec3 lo, hi;
+        scene.bounds(lo, hi);
+        state.ears.emplace(ears::Grid(lo, hi));
+    }
+    ears::Learning& l = *state.ears;
+    double box[7] = {l.grid.lo().x, l.grid.lo().y, l.grid.lo().z, l.grid.hi().x, l.grid.hi().y, l.grid.hi().z, l.factors.scale};
+    std::int32_t epochAndFactors[2] = {l.epoch, l.factors.empty() ? 0 : 1};
+    MPI_Bcast(box, 7, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    MPI_Bcast(epochAndFactors, 2, MPI_INT32_T, 0, MPI_COMM_WORLD);
+    const int cells = static_cast<int>(ears::Grid::cellCount());
+    if (!job.root()) {
+        l.grid = ears::Grid::fromBox(Vec3(box[0], box[1], box[2]), Vec3(box[3], box[4], box[5]));
+        l.epoch = epochAndFactors[0];
+        l.factors = ears::Factors{};
+        l.factors.scale = box[6];
+        if (epochAndFactors[1]) {
+            l.factors.varianceRatio.resize(static_cast<std::size_t>(cells));
+            l.factors.momentRatio.resize(static_cast<std::size_t>(cells));
+            l.factors.firstHit.resize(static_cast<std::size_t>(cells));
+        }
+        l.sums.assign(ears::Learning::sumCount(), ears::CellSums{});
+    }
+    if (epochAndFactors[1])
+        for (std::vector<float>* table : {&l.factors.varianceRatio, &l.factors.momentRatio, &l.factors.firstHit})
+            MPI_Bcast(table->data(), cells, MPI_FLOAT, 0, MPI_COMM_WORLD);
 }
 
-void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
+/// --splitting ears: every rank's sums of the epoch's records added into rank 0's (exact integers: the
+/// same in any order, so the same as one process's).
+void gatherLearning(const MpiJob& job, RenderState& state) {
+    std::vector<ears::CellSums>& sums = state.ears->sums;
+    const int bytes = static_cast<int>(sums.size() * sizeof(ears::CellSums));
+    if (!job.root()) {
+        MPI_Send(sums.data(), bytes, MPI_BYTE, 0, kTagLearning, MPI_COMM_WORLD);
+        return;
+    }
+    std::vector<ears::CellSums> other(sums.size());
+    for (int r = 1; r < job.size(); ++r) {
+        MPI_Recv(other.data(), bytes, MPI_BYTE, r, kTagLearning, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        state.ears->add(other);
+    }
+}
+
+void renderSegmentDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                               const RenderSettings& settings, RenderState& state, std::uint32_t upTo, std::atomic<std::uint64_t>* progress,
                               DistributedStats* distributed) {
-    requireOneRankForEars(job, settings);
-    if (!job.active() || job.size() == 1) return renderSamples(scene, accel, estimator, settings, state, upTo, progress);
     const auto start = std::chrono::steady_clock::now();
     const int total = tileCount(settings.width, settings.height);
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
@@ -261,8 +298,36 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
         int own = total;
         for (int r = 1; r < job.size(); ++r) own -= tilesPerRank[static_cast<std::size_t>(r)];
         tilesPerRank[0] = own;
-        distributed->gatherSeconds = gatherSeconds;
-        distributed->tilesPerRank = tilesPerRank;
+        // Summed over the calls of one render (--splitting ears renders epoch by epoch).
+        distributed->gatherSeconds += gatherSeconds;
+        distributed->tilesPerRank.resize(tilesPerRank.size(), 0);
+        for (std::size_t r = 0; r < tilesPerRank.size(); ++r) distributed->tilesPerRank[r] += tilesPerRank[r];
+    }
+}
+
+}  // namespace
+
+void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
+                              const RenderSettings& settings, RenderState& state, std::uint32_t upTo, std::atomic<std::uint64_t>* progress,
+                              DistributedStats* distributed) {
+    if (!job.active() || job.size() == 1) return renderSamples(scene, accel, estimator, settings, state, upTo, progress);
+    if (settings.trace.splitting != SplittingMode::Ears)
+        return renderSegmentDistributed(job, scene, accel, estimator, settings, state, upTo, progress, distributed);
+    // --splitting ears: epoch by epoch, as renderSamples in one process. Rank 0, which holds the state,
+    // says where each segment ends (0: no more); before it every rank gets rank 0's factors, after it rank
+    // 0 adds every rank's records and learns the next epoch's factors.
+    for (;;) {
+        std::uint32_t end = 0;
+        if (job.root()) {
+            const std::uint32_t reached = state.samplesReached(), bound = std::min(upTo, state.sppBound);
+            if (reached < bound && !(settings.cancel && settings.cancel->load())) end = std::min(bound, ears::epochEnd(reached));
+        }
+        MPI_Bcast(&end, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
+        if (end == 0) return;
+        shareLearning(job, scene, state);
+        renderSegmentDistributed(job, scene, accel, estimator, settings, state, end, progress, distributed);
+        gatherLearning(job, state);
+        if (job.root()) endEpochIfDone(state);
     }
 }
 
@@ -295,7 +360,6 @@ void followPasses(const MpiJob& job, const Scene& scene, const Accel& accel, con
 
 RenderResult renderDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                                const RenderSettings& settings, std::atomic<std::uint64_t>* progress, DistributedStats* distributed) {
-    requireOneRankForEars(job, settings);
     if (!job.active() || job.size() == 1) return render(scene, accel, estimator, settings, progress);
     RenderState state(settings.width, settings.height, settings.spp);
     renderSamplesDistributed(job, scene, accel, estimator, settings, state, settings.spp, progress, distributed);

@@ -17,16 +17,14 @@ struct DistributedStats {
     std::vector<int> tilesPerRank;  ///< rank 0: how many tiles each rank rendered
 };
 
-/// InputError (the same on every rank) for --splitting ears in a job of more than one rank: its learning
-/// is not shared among ranks yet.
-void requireOneRankForEars(const MpiJob& job, const RenderSettings& settings);
-
 /// Collective over the job's ranks: takes every tile of `state` to `upTo` samples (renderSamples in a job
 /// of one rank). Rank 0 holds the whole state: it hands each granted tile's sums out with the tile, and
 /// the rank that renders it sends them back, so a pixel's samples are added in order wherever they are
 /// taken and the state is bit for bit the single-process one. On the other ranks `state` is scratch (of
 /// the image's size). Rank 0's state gains the whole job's rays, samples, paths and CPU time (summed over the ranks) and
-/// the pass's wall time.
+/// the pass's wall time. With --splitting ears it renders epoch by epoch (splitting/learning.h): rank 0
+/// sends its learned factors to every rank before an epoch's tiles and adds their records to its sums
+/// after them (exact integer sums), so the image is the single-process one too.
 void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                               const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
                               std::atomic<std::uint64_t>* progress = nullptr, DistributedStats* distributed = nullptr);

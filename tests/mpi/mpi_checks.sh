@@ -8,8 +8,10 @@
 #   one-rank-fails         the scene is missing on rank 1 only: exit 2, rank 0 reports it once, no file
 #   study                  a study under 2 ranks has the rows of a study without MPI (timings aside)
 #   study-bad-input        a study's bad input under 2 ranks: exit 2, one message, no results
-#   ears-refused           --splitting ears under 2 ranks (its learning is not shared yet): exit 2, one
-#                          message, no image; with passes too
+#   ears NP                --splitting ears under NP ranks (the learned factors shared, the records summed
+#                          on rank 0): the single-process EXR byte for byte, in one go and in passes of 3
+#                          spp, and stopped by --time under NP ranks and resumed under NP + 1; the image is
+#                          not plain phong's (the factors did act)
 #   study-interrupt        SIGINT to mpiexec during a study under 2 ranks: whole groups of rows kept,
 #                          the report marked interrupted, rank 0 says so
 #   rank-dies              rank 1 killed during a render: non-zero exit, rank 0 says so, no file
@@ -91,12 +93,28 @@ study-bad-input)
     "${launch[@]}" -np 2 "$bin" study "$work/missing.obj" -o "$work/st"
   [ ! -e "$work/st/results.csv" ] || fail "results.csv was created"
   ;;
-ears-refused)
-  for passes in "" "--pass-spp 1"; do
+ears)
+  np=$1 learn=(render cornell --spp 16 -W 70 -H 45 --seed 5 -t 1 --splitting ears)
+  "$bin" "${learn[@]}" -o "$work/single.exr" >/dev/null
+  "$bin" render cornell --spp 16 -W 70 -H 45 --seed 5 -t 1 -o "$work/plain.exr" >/dev/null
+  ! cmp -s "$work/single.exr" "$work/plain.exr" || fail "--splitting ears rendered plain phong's image"
+  for passes in "" "--pass-spp 3"; do
     # shellcheck disable=SC2086
-    expect_bad_input "symphong: error: --splitting ears runs in one process: what it learns is not shared among MPI ranks yet (this job has 2); run it with one rank, or without --splitting ears" \
-      "${launch[@]}" -np 2 "$bin" "${render[@]}" --splitting ears $passes -o "$work/x.png"
+    "${launch[@]}" -np "$np" "$bin" "${learn[@]}" $passes -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
+      fail "mpiexec -np $np ${passes:-(one pass)} failed: $(cat "$work/err")"
+    grep -q "$np ranks" "$work/out" || fail "summary: $(cat "$work/out")"
+    cmp "$work/single.exr" "$work/mpi.exr" || fail "$np ranks ${passes:-(one pass)}: the EXR differs from the single-process one"
   done
+  long=(render cornell --spp 256 -W 64 -H 48 --seed 5 -t 1 --splitting ears --pass-spp 2 --checkpoint "$work/c.ckpt")
+  "$bin" "${long[@]}" -o "$work/single.exr" >/dev/null
+  rm -f "$work/c.ckpt"
+  "${launch[@]}" -np "$np" "$bin" "${long[@]}" --time 0.3 -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
+    fail "the first run failed: $(cat "$work/err")"
+  grep -q "spp (time limit" "$work/out" || fail "the first run was not stopped by --time: $(cat "$work/out")"
+  "${launch[@]}" -np $((np + 1)) "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
+    fail "resume failed: $(cat "$work/err")"
+  grep -q "resuming from" "$work/err" || fail "the second run did not resume: $(cat "$work/err")"
+  cmp "$work/single.exr" "$work/mpi.exr" || fail "$np ranks, then $((np + 1)), with ears: the EXR differs from the single-process one"
   ;;
 study-interrupt)
   # Long enough to be interrupted after its first rows; short tiles, so that it stops within the second
