@@ -15,8 +15,9 @@ catches is reported as MISSED and makes the script exit 1; so is one that only t
 python.test_docs catch, since those fail for any change of output, right or wrong. `--check` only checks
 that every planted text is still in the source, once. `--first` answers only whether a bug is caught: with a
 bug planted, ctest runs without the golden/docs tests and stops at the first failure (`--stop-on-failure`), so
-a row names the first test that failed (or two, with --jobs 2) rather than all of them; the clean tree still
-runs the whole suite. A pass over all bugs takes hours, not days, this way.
+a row names the first test that failed (or two, with --jobs 2) rather than all of them; the tests that caught
+the bug last time (FIRST_TRIED) run first, and the whole suite only when none of them fails. The clean tree
+still runs the whole suite. A pass over all bugs takes an hour or two this way, not a day.
 """
 import argparse
 import os
@@ -162,6 +163,61 @@ BUGS = [
      "renderSegment(scene, accel, estimator, settings, state, upTo, progress);"),
 ]
 
+# --first: the tests that caught each bug last time (docs/testing.md), run before the rest of the suite.
+# A guess only: when none of them fails, the whole suite runs.
+FIRST_TRIED = {
+    'answer-factor-mse': ['StudyAnswer.MostEfficientLinesQuoteTheRatiosOfTheirOwnMeasure', 'TinyStudy.AnswerFactorsAreTheRatiosOfResultsCsv'],
+    'fbx-blender-specular-half': ['Assimp.BlenderGlossyMaterialsAreTheirPrincipledParameters', 'Assimp.Blender'],
+    'fbx-blender-roughness': ['Assimp.BlenderGlossyMaterialsAreTheirPrincipledParameters', 'Assimp.Blender'],
+    'obj-blender-roughness': ['Assimp.BlenderGlossyMaterialsAreTheirPrincipledParameters', 'Assimp.Blender'],
+    'target-error-best-region': ['Progressive.TargetErrorWaitsForItsWorstRegion'],
+    'time-limit-ignores-pass': ['Progressive.TimeLimitSizesThePassesToTheTimeLeft'],
+    'region-error-per-pixel': ['Progressive.ErrorEstimateOfTheMeanMatchesItsSpreadOverSeeds', 'Progressive.TargetErrorStopsWithinTheStatedError'],
+    'ckpt-ears-ratios-swapped': ['EarsCheckpoint.ResumesInsideAnEpochBitForBit', 'EarsRender.SameImage', 'EarsRender.TheClosedFurnace'],
+    'ears-continuation-unweighted': ['EarsRender.MeanImageAgreesWithPhongOnEveryStudyScene', 'EarsRender.MeanImage', 'EarsRender.TheClosedFurnaceKeepsItsClosedForm'],
+    'ears-epoch-not-cut': ['EarsRender.SameImageAtAnyThreadCountAndAnyPasses', 'EarsCheckpoint.ResumesInsideAnEpochBitForBit', 'EarsRender.SameImage'],
+    'mix-orbit-unweighted': ['SymmetricMixDiffuse.ConstantRadianceGivesZeroVarianceLikeCosine'],
+    'mix-family-not-offset': ['SymmetricMixDensity.AnOrbitSplitsBetweenTheFamiliesInProportion', 'SymmetricMixDensity.AnOrbit'],
+    'relmse-epsilon': ['StudyMetrics.ErrorsOfAKnownPerturbation'],
+    'hdrflip-exposure-step': ['HdrFlip.AgreesWithNvidiaReferenceTool'],
+    'ply-strip-parity': ['Ply.TriangleStripsLoadInFullWithTheirWinding'],
+    'normal-map-no-handedness': ['NormalMaps.ConstantMapTiltsTheLambertCosineInItsTangentFrame', 'NormalMaps.PerturbedNormalIsTheMapsVectorInTheTangentFrame'],
+    'normal-map-strength-on-z': ['NormalMaps.ConstantMapTiltsTheLambertCosineInItsTangentFrame'],
+    'height-slope-doubled': ['NormalMaps.HeightRampTiltsTheNormalAgainstItsSlope'],
+    'bump-shadowing-terms': ['NormalMaps.BumpShadowingTermFollowsItsFormula'],
+    'texture-transform-rotation': ['NormalMaps.KhrTextureTransformFollowsTheExtensionsFormula'],
+    'texture-transform-offset-v': ['NormalMaps.KhrTextureTransformFollowsTheExtensionsFormula'],
+    'range-lower-exclusive': ['Schema.JsonRoundTripAndErrorsNameTheKey', 'Schema.AStudysSettingsInResultsJsonGiveItsConfigurationBack', 'CliOptions.OutputHas'],
+    'split-range-zero': ['python.test_errors'],
+    'mis-swapped': ['Furnace.ClosedSphereGivesLeOverOneMinusAlbedo', 'CornellAgreement.WithoutLightSamplingTheImageIsTheSame', 'CornellAgreement.WithoutLightSampling'],
+    'roulette-unweighted': ['Furnace.ClosedSphereGivesLeOverOneMinusAlbedo', 'CornellAgreement.WithoutLightSamplingTheImageIsTheSame', 'CornellAgreement.WithoutLightSampling'],
+    'pdf-2pct': ['Warps.PdfsIntegrateToOne', 'Warps.CosineHemisphereFitsItsPdf', 'EstimatorDirections.PhongMixtureFitsItsPdf'],
+    'below-horizon': ['Warps.CosineHemisphereFitsItsPdf', 'EstimatorDirections.PhongMixtureFitsItsPdf', 'EstimatorDensities.OneDirectionFollowsTheReportedMisPdf'],
+    'brdf-normalisation': ['Phong.DirectionalAlbedoIsAtMostOneAndMatchesMonteCarlo', 'EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/uniform_independent', 'EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/uniform_stratified'],
+    'nee-no-cosine': ['Furnace.ClosedSphereGivesLeOverOneMinusAlbedo', 'CornellAgreement.WithoutLightSamplingTheImageIsTheSame', 'LambertFormula.DirectLightOnAPlaneMatchesRegionByRegion'],
+    'thread-rng': ['Determinism.SameSeedSameImageAtAnyThreadCountForEverySampler', 'TinyStudy.TheReferenceIsCachedAndReusedOnlyWhenTheSettingsMatch'],
+    'non-atomic-write': ['AtomicWrite.AFailedImageWriteLeavesTheTargetUntouched'],
+    'two-sided-emitter': ['Emitters.EmitFromTheirFrontSideOnly'],
+    'half-pixel-shift': ['Camera.ImageEdgesLandOnPixelEdges', 'LambertFormula.DirectLightOnAPlaneMatchesRegionByRegion', 'Lights.PointLightAboveAPlaneGivesRhoOverPiICosOverDSquared'],
+    'exposure-ignored': ['CliOptions.ExposureScalesThePngAndNotTheExr'],
+    'exr-half-ignored': ['Exr.FloatRoundTripIsExactAndHalfIsClose', 'CliOptions.ExrHalfWritesHalfChannelsAndFloatByDefault', 'python.test_render'],
+    'max-depth-ignored': ['CliOptions.MaxDepthLimitsTheBounces'],
+    'sobol-not-per-pixel': ['EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/uniform_sobol', 'EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/cosine_sobol', 'EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/phong_sobol'],
+    'cutout-shadow-rays': ['CutOutShadows.APerforatedScreenCastsTheShadowOfItsSolidParts'],
+    'nested-node-transform': ['NodeTransforms.GltfChildNodesAreTransformedByTheirParents', 'NodeTransforms.ColladaChildNodesAreTransformedByTheirParents'],
+    'env-rotation-reversed': ['EnvironmentMap.RotatedMapIsSeenAndSampledWhereTheFormulaPutsItsTexels'],
+    'env-density-no-sine': ['EnvironmentMap.RotatedMapIsSeenAndSampledWhereTheFormulaPutsItsTexels'],
+    'texture-gamma-2.2': ['TexturedRender.MapKdCheckerboardRendersItsLinearMean', 'TextureLookup.SrgbCurveIsTheStandardsFormula'],
+    'texture-negative-truncated': ['Render.NoPixelIsNaNOnAnyBundledScene', 'Texture.BilinearLookupBetweenTexelCentres', 'TextureLookup.BilinearWithEveryWrapModeMatchesAnExplicitPlaneOfTiles'],
+    'spot-linear-falloff': ['Emitters.SpotLightFallsOffAsItsSmoothstepBetweenTheCones'],
+    'python-array-bgr': ['python.test_array_layout', 'python.test_render'],
+    'memory-boundary': ['Memory.ExactlyTheBudgetPassesAndOneByteMoreIsRefused'],
+    'sobol-pair-shared-scramble': ['EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/uniform_sobol', 'EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/cosine_sobol', 'EveryEstimatorAndSampler/EstimatorFurnace.MatchesTheDirectionalAlbedo/phong_sobol'],
+    'mpi-unpack-swapped': ['mpi.render.identical.independent.np2', 'mpi.render.identical.independent.np3', 'mpi.render.identical.sobol.np2'],
+    'resume-ignores-seed': ['python.test_long_render', 'checkpoint.refused'],
+    'passes-restart-sums': ['Progressive.PassesInAnyOrderGiveTheOnePassImageBitForBit', 'Progressive.TargetErrorStopsWithinTheStatedError', 'Checkpoint.ReadsBackExactlyAndResumesToTheOnePassImage'],
+}
+
 # Tests that fail for any change of output, right or wrong: a bug they alone catch counts as missed.
 NOT_INDEPENDENT = re.compile(r"^(Renders/Golden\.|Golden|python\.test_docs$)")
 
@@ -217,10 +273,13 @@ def build(jobs):
     return run(["ninja", "-C", BUILD, f"-j{jobs}"], ROOT)
 
 
-def ctest(jobs, shared, first=False):
+def ctest(jobs, shared, first=False, only=None):
     env = dict(os.environ, SYMPHONG_SCENES=shared, SYMPHONG_REQUIRE_SCENES="1")
-    # --first: only the tests that count, stopping at the first that fails (ctest's -E takes the same regex).
+    # --first: only the tests that count, stopping at the first that fails (ctest's -E takes the same regex);
+    # `only`: the tests whose names begin with these and no others.
     extra = ["--stop-on-failure", "-E", NOT_INDEPENDENT.pattern] if first else []
+    if only:
+        extra += ["-R", "^(" + "|".join(re.escape(t) for t in only) + ")"]
     r = subprocess.run(["ctest", "--test-dir", BUILD, f"-j{jobs}", "--timeout", "900"] + extra, cwd=ROOT, stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, text=True, env=env)
     # The list after "The following tests FAILED:"; a value-parameterized test's line carries a
@@ -278,7 +337,11 @@ def main():
                 rows.append((name, what, "does not compile: " + b.stdout[-300:].replace("\n", " ")))
                 print(f"{name}: {rows[-1][2]}", file=sys.stderr, flush=True)
                 continue
-            code, failed = ctest(args.jobs, shared, args.first)
+            failed = []
+            if args.first and FIRST_TRIED.get(name):
+                code, failed = ctest(args.jobs, shared, True, FIRST_TRIED[name])
+            if not failed:
+                code, failed = ctest(args.jobs, shared, args.first)
             independent = [t for t in failed if not NOT_INDEPENDENT.match(t)]
             others = len(failed) - len(independent)
             if independent:
