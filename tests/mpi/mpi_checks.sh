@@ -105,7 +105,7 @@ ears)
     grep -q "$np ranks" "$work/out" || fail "summary: $(cat "$work/out")"
     cmp "$work/single.exr" "$work/mpi.exr" || fail "$np ranks ${passes:-(one pass)}: the EXR differs from the single-process one"
   done
-  long=(render cornell --spp 256 -W 64 -H 48 --seed 5 -t 1 --splitting ears --pass-spp 2 --checkpoint "$work/c.ckpt")
+  long=(render cornell --spp 400 -W 64 -H 48 --seed 5 -t 1 --splitting ears --pass-spp 2 --checkpoint "$work/c.ckpt")
   "$bin" "${long[@]}" -o "$work/single.exr" >/dev/null
   rm -f "$work/c.ckpt"
   "${launch[@]}" -np "$np" "$bin" "${long[@]}" --time 0.3 -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
