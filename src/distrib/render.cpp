@@ -205,11 +205,7 @@ void gatherTiles(const MpiJob& job, RenderState& state, std::vector<int>& tilesP
 /// and its factors) sent to every rank, whose own sums start empty. Rank 0's learning is the render's:
 /// it may come from a checkpoint.
 void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
-    if (!state.ears) {
-        Vec3 lo, hi;
-        scene.bounds(lo, hi);
-        state.ears.emplace(ears::Grid(lo, hi));
-    }
+    startLearning(scene, state);
     ears::Learning& l = *state.ears;
     double box[7] = {l.grid.lo().x, l.grid.lo().y, l.grid.lo().z, l.grid.hi().x, l.grid.hi().y, l.grid.hi().z, l.factors.scale};
     std::int32_t epochAndFactors[2] = {l.epoch, l.factors.empty() ? 0 : 1};

@@ -76,14 +76,10 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
     const auto start = std::chrono::steady_clock::now();
     const double cpuStart = processCpuSeconds();
     const bool learns = settings.trace.splitting == SplittingMode::Ears;
-    if (learns && !state.ears) {
-        Vec3 lo, hi;
-        scene.bounds(lo, hi);
-        state.ears.emplace(ears::Grid(lo, hi));
-    }
+    if (learns) startLearning(scene, state);
     // The last epoch of the render (the one that reaches its spp) has no epoch after it to learn from its
     // records: it traces without them (the same in every run of this spp, resumed or not).
-    const bool records = learns && ears::epochEnd(ears::epochStart(state.ears->epoch)) < state.sppBound;
+    const bool records = learns && !ears::lastEpoch(state.ears->epoch, state.sppBound);
     const PathTracer tracer(scene, accel, estimator, settings.trace, learns ? &*state.ears : nullptr, records);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
@@ -143,11 +139,18 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
     state.cpuSeconds += processCpuSeconds() - cpuStart;
 }
 
+void startLearning(const Scene& scene, RenderState& state) {
+    if (state.ears) return;
+    Vec3 lo, hi;
+    scene.bounds(lo, hi);
+    state.ears.emplace(ears::Grid(lo, hi));
+}
+
 bool endEpochIfDone(RenderState& state) {
-    if (!state.ears) return false;
-    const std::uint32_t end = ears::epochEnd(ears::epochStart(state.ears->epoch));
     // The render's last epoch (it reaches the spp) has no successor to learn for.
-    if (state.samplesReached() < end || end >= state.sppBound) return false;
+    if (!state.ears || ears::lastEpoch(state.ears->epoch, state.sppBound) ||
+        state.samplesReached() < ears::epochEnd(ears::epochStart(state.ears->epoch)))
+        return false;
     state.ears->advance(state.variancePerSample(), state.rays, state.samples);
     return true;
 }

@@ -127,6 +127,9 @@ void renderSamples(const Scene& scene, const Accel& accel, const Estimator& esti
 void renderSegment(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
                    std::uint32_t upTo, std::atomic<std::uint64_t>* progress = nullptr);
 
+/// --splitting ears: the state's learning, made over the scene's bounds when it has none yet.
+void startLearning(const Scene& scene, RenderState& state);
+
 /// --splitting ears: when every tile has finished the state's epoch, learns the next epoch's factors
 /// (from the epoch's sums, the rays and samples since it began and the image's variance per sample) and
 /// returns true.

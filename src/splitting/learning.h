@@ -32,6 +32,8 @@ int epochOf(std::uint32_t sample);
 std::uint32_t epochEnd(std::uint32_t reached);
 /// The first sample index of epoch e (0, then 2^e).
 std::uint32_t epochStart(int epoch);
+/// Whether epoch e is the last of a render of `spp` samples (it reaches the spp): no epoch learns from it.
+inline bool lastEpoch(int epoch, std::uint32_t spp) { return epochEnd(epochStart(epoch)) >= spp; }
 
 struct Learning {
     Grid grid;
