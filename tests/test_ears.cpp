@@ -101,6 +101,28 @@ TEST(EarsSums, AreTheSameBitForBitInAnyOrderAndMatchTheMoments) {
     EXPECT_DOUBLE_EQ(inOrder.meanCost(), static_cast<double>(cost / n));
 }
 
+// The first hit's number of continuations: the power of two nearest the model's q on a log scale, which is
+// the brute-force best power of two for the model's a / n + b n (its ratio to the minimum, q/n + n/q).
+TEST(EarsFactor, FirstHitBlocksAreTheBestPowerOfTwo) {
+    EXPECT_EQ(ears::firstHitBlock(1.0), 1.0);
+    EXPECT_EQ(ears::firstHitBlock(1.41), 1.0);
+    EXPECT_EQ(ears::firstHitBlock(1.42), 2.0);
+    EXPECT_EQ(ears::firstHitBlock(5.6), 4.0);
+    EXPECT_EQ(ears::firstHitBlock(5.7), 8.0);
+    EXPECT_EQ(ears::firstHitBlock(100.0), 8.0);
+    EXPECT_EQ(ears::firstHitBlock(0.3), 1.0);
+    EXPECT_EQ(ears::firstHitBlock(std::nan("")), 1.0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> logQ(0.0, std::log(ears::kMaxFactor));
+    for (int i = 0; i < 10000; ++i) {
+        const double q = std::exp(logQ(rng));
+        double best = 1, bestCost = 1e300;
+        for (double n : {1.0, 2.0, 4.0, 8.0})
+            if (const double cost = q / n + n / q; cost < bestCost) best = n, bestCost = cost;
+        ASSERT_EQ(ears::firstHitBlock(q), best) << "q " << q;
+    }
+}
+
 TEST(EarsSchedule, EpochsDoubleAfterTheFirstTwoSamples) {
     const std::uint32_t samples[] = {0, 1, 2, 3, 4, 7, 8, 15, 16, 1000};
     const int epochs[] = {0, 0, 1, 1, 2, 2, 3, 3, 4, 9};
@@ -238,6 +260,105 @@ TEST(EarsSplitDirections, FollowTheEstimatorsDensity) {
         EXPECT_TRUE(r.passed) << (firstHit ? "first hit: " : "further on: ") << r.describe();
         EXPECT_NEAR(static_cast<double>(dirs.size()) / calls, mass, 4 * std::sqrt(mass * (1 - mass) / calls));
     }
+}
+
+namespace {
+
+/// First-hit records of `vertices` vertices at p with two continuations each of sample variance v and
+/// `cost` rays (as FirstHitFactorsAreTheModelsOptimumInOneEpoch).
+void addFirstHits(ears::Learning& l, const Vec3& p, int vertices, double v, std::uint64_t cost) {
+    const auto cell = static_cast<std::uint32_t>(l.grid.cell(p, ears::Grid::kLevels - 1));
+    for (int i = 0; i < vertices; ++i) {
+        const double m = 3 + 0.001 * (i % 7), d = std::sqrt(v / 2);
+        l.add({cell, m - d, cost, ears::Section::FirstHit});
+        l.add({cell, m + d, cost, ears::Section::FirstHit});
+        l.add({cell, v, 1, ears::Section::FirstHitVertex});
+    }
+}
+
+}  // namespace
+
+// The probe teaches epoch 0 its first-hit factors (the model's, as learnFactors solves them from the same
+// sums) and nothing for deeper vertices; at the end of epoch 0 each cell keeps the lesser of the probe's
+// factor and epoch 0's, and from then on the first hit's factors hold whatever later epochs measure.
+TEST(EarsLearn, AfterTheProbeFirstHitFactorsOnlyFallThenHold) {
+    const ears::Grid grid(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    const Vec3 a(0.1, 0.1, 0.1), b(0.9, 0.8, 0.7);
+    const auto factorAt = [&](const ears::Factors& f, const Vec3& p) {
+        const long cell = ears::Factors::cellAt(f.firstHit, grid, p);
+        return cell < 0 ? -1.0 : static_cast<double>(f.firstHit[static_cast<std::size_t>(cell)]);
+    };
+    ears::Learning l(grid);
+    addFirstHits(l, a, 600, 4.0, 2);
+    addFirstHits(l, b, 300, 0.5, 1);
+    l.add({static_cast<std::uint32_t>(grid.cell(a, ears::Grid::kLevels - 1)), 1.0, 3, ears::Section::Deeper});
+    std::vector<ears::CellSums> probeSums = l.sums;
+    ears::propagateToCoarserCells(probeSums);
+    const ears::Factors expected = ears::learnFactors(probeSums, {5.0, 0.4, 1000});
+    l.learnFromProbe(0.4, 5000, 1000);
+    EXPECT_TRUE(l.probed);
+    EXPECT_EQ(l.epoch, 0);
+    ASSERT_FALSE(l.factors.empty());
+    EXPECT_EQ(factorAt(l.factors, a), factorAt(expected, a));
+    EXPECT_EQ(factorAt(l.factors, b), factorAt(expected, b));
+    EXPECT_GT(factorAt(l.factors, a), 1.5);
+    EXPECT_TRUE(std::all_of(l.factors.momentRatio.begin(), l.factors.momentRatio.end(), [](float r) { return r < 0; }));
+    EXPECT_TRUE(std::all_of(l.sums.begin(), l.sums.end(), [](const ears::CellSums& c) { return c.empty(); }));
+    const double probeA = factorAt(l.factors, a), probeB = factorAt(l.factors, b);
+
+    // Epoch 0: a's continuations vary less (its own factor falls), b's more (its own would rise).
+    addFirstHits(l, a, 600, 0.05, 2);
+    addFirstHits(l, b, 300, 16.0, 1);
+    std::vector<ears::CellSums> epochSums = l.sums;
+    ears::propagateToCoarserCells(epochSums);
+    const ears::Factors epoch0 = ears::learnFactors(epochSums, {5.0, 0.4, 1000});
+    ASSERT_LT(factorAt(epoch0, a), probeA);
+    ASSERT_GT(factorAt(epoch0, b), probeB);
+    l.advance(0.4, 5000, 1000);
+    EXPECT_EQ(l.epoch, 1);
+    EXPECT_EQ(factorAt(l.factors, a), factorAt(epoch0, a));
+    EXPECT_EQ(factorAt(l.factors, b), probeB);
+
+    // Epoch 1 measures something else again: the first hit's factors hold.
+    addFirstHits(l, a, 600, 8.0, 2);
+    addFirstHits(l, b, 300, 0.01, 1);
+    const double heldA = factorAt(l.factors, a);
+    l.advance(0.4, 10000, 2000);
+    EXPECT_EQ(l.epoch, 2);
+    EXPECT_EQ(factorAt(l.factors, a), heldA);
+    EXPECT_EQ(factorAt(l.factors, b), probeB);
+}
+
+// The probe runs once, before the first sample, in renders of at least kProbeMinSpp samples; its samples
+// are not the image's (the state counts only the image's camera samples, and its rays add to the render's).
+TEST(EarsRender, TheProbeRunsOnceAndStaysOutOfTheImage) {
+    const Scene scene = test::makeFurnaceSphere(1.0, 0.5);
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    for (std::uint32_t spp : {ears::kProbeMinSpp / 2, ears::kProbeMinSpp}) {
+        RenderSettings rs = earsSettings(8, 8, spp, 17);
+        RenderState state(8, 8, spp);
+        renderSamples(scene, accel, *est, rs, state, 2);
+        ASSERT_TRUE(state.ears);
+        EXPECT_EQ(state.ears->probed, spp >= ears::kProbeMinSpp) << spp;
+        EXPECT_EQ(state.samples, 8u * 8u * 2u);
+        const std::uint64_t rays = state.rays;
+        const bool probed = state.ears->probed;
+        probeLearning(scene, accel, *est, rs, state);  // a second call does nothing
+        EXPECT_EQ(state.rays, rays);
+        renderSamples(scene, accel, *est, rs, state, spp);
+        EXPECT_EQ(state.ears->probed, probed);
+        EXPECT_EQ(state.samples, 8u * 8u * spp);
+    }
+    // Resumed past its first sample, a render that never probed runs none.
+    RenderSettings rs = earsSettings(8, 8, 16, 17);
+    RenderState state(8, 8, 16);
+    rs.trace.splitting = SplittingMode::None;
+    renderSamples(scene, accel, *est, rs, state, 2);
+    rs.trace.splitting = SplittingMode::Ears;
+    renderSamples(scene, accel, *est, rs, state, 4);
+    ASSERT_TRUE(state.ears);
+    EXPECT_FALSE(state.ears->probed);
 }
 
 // Records are kept while an epoch follows: six samples of a 16-spp render (inside epoch [4, 8), which

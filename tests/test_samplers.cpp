@@ -274,6 +274,50 @@ TEST(LowDiscrepancy, ScrambledSobolPairsAreNets) {
     }
 }
 
+// Block points (--splitting ears's first-hit continuations): for a pixel of 2^k samples, sample a's
+// continuations 0..n-1 (n = 1, 2, 4, 8) are an aligned block of n points of the sequence (a (0, log2 n, 2)-net,
+// checked as the points themselves), and continuation j of all 2^k samples is a (0,k,2)-net, unscrambled and
+// Owen-scrambled, for every j; the union is every point of the first 8 x 2^k once. Against a map that
+// ignores a (f = 0: every continuation 0 in one eighth of the first coordinate), which the check rejects.
+TEST(LowDiscrepancy, BlockPointsAreNetsPerSampleAndPerContinuation) {
+    for (std::uint32_t k = 0; k <= 14; ++k) {
+        const std::uint32_t count = 1u << k;
+        std::vector<int> seen(count * kBlockSize, 0);
+        for (std::uint32_t a = 0; a < count; ++a)
+            for (std::uint32_t n = 1; n <= kBlockSize; n *= 2) {
+                std::vector<FixedPoint> own(n);
+                std::vector<std::uint32_t> indices(n);
+                for (std::uint32_t j = 0; j < n; ++j) {
+                    const std::uint32_t point = blockPoint(a, k, j);
+                    indices[j] = point;
+                    own[j] = {sobolDimension0(point), sobolDimension1(point)};
+                    if (n == kBlockSize) ++seen[point];
+                }
+                std::sort(indices.begin(), indices.end());
+                ASSERT_EQ(indices.front() % n, 0u) << "k " << k << ", sample " << a << ", n " << n;
+                ASSERT_EQ(indices.back(), indices.front() + n - 1) << "k " << k << ", sample " << a << ", n " << n;
+                if (k <= 6) {
+                    ASSERT_EQ(netFailure(own), "") << "k " << k << ", sample " << a << ", n " << n;
+                }
+            }
+        EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(count * kBlockSize)) << "k " << k;
+        for (std::uint32_t j = 0; j < kBlockSize; ++j) {
+            std::vector<FixedPoint> plain(count), scrambled(count), ignoring(count);
+            for (std::uint32_t a = 0; a < count; ++a) {
+                const std::uint32_t point = blockPoint(a, k, j);
+                plain[a] = {sobolDimension0(point), sobolDimension1(point)};
+                scrambled[a] = {owenScrambledSobol0(point, 0x9E3779B9u), owenScrambledSobol1(point, hash32(k))};
+                ignoring[a] = {sobolDimension0(a * kBlockSize + j), sobolDimension1(a * kBlockSize + j)};
+            }
+            EXPECT_EQ(netFailure(plain), "") << "k " << k << ", continuation " << j;
+            EXPECT_EQ(netFailure(scrambled), "") << "k " << k << ", continuation " << j;
+            if (k >= 1) {
+                EXPECT_NE(netFailure(ignoring), "") << "k " << k << ", continuation " << j;
+            }
+        }
+    }
+}
+
 TEST(LowDiscrepancy, NetCheckerRejectsBrokenPairs) {
     // Power: pairs that are not (0,2)-sequences fail the same check for every k >= 2 (k = 0, 1 have
     // too few points to tell).
@@ -394,6 +438,44 @@ TEST(SobolSampler, PairsOfEveryPixelAreNets) {
                 }
         }
     }
+}
+
+// A sobol stream's block continuations: sample i's continuations 0..n-1 over a pixel of 16 samples are
+// the points blockPoint(permuted i, 4, j) of the sampler's own scramble (a net among themselves and, for
+// one j over the pixel, a net of 16), read through get2D at any dimension; other samplers get the split
+// sub-sample.
+TEST(SampleStream, BlockContinuationsAreNetsUnderSobol) {
+    const std::uint32_t spp = 16;
+    const SobolSampler sobol(spp, 7);
+    for (std::uint64_t dim : {std::uint64_t{2}, std::uint64_t{1} << 40}) {
+        for (std::uint32_t j = 0; j < kBlockSize; ++j) {
+            std::vector<FixedPoint> across(spp);
+            for (std::uint32_t i = 0; i < spp; ++i) {
+                SampleStream s = SampleStream(sobol, 5, i).blockContinuation(j);
+                s.setDimension(dim);
+                const Point2 p = s.get2D();
+                across[i] = {toFixed(p.u), toFixed(p.v)};
+                EXPECT_EQ(s.dimension(), dim + 2);
+            }
+            EXPECT_EQ(netFailure(across), "") << "continuation " << j << ", dim " << dim;
+        }
+        for (std::uint32_t i = 0; i < spp; ++i) {
+            std::vector<FixedPoint> own(kBlockSize);
+            for (std::uint32_t j = 0; j < kBlockSize; ++j) {
+                SampleStream s = SampleStream(sobol, 5, i).blockContinuation(j);
+                s.setDimension(dim);
+                const Point2 p = s.get2D();
+                own[j] = {toFixed(p.u), toFixed(p.v)};
+            }
+            EXPECT_EQ(netFailure(own), "") << "sample " << i << ", dim " << dim;
+        }
+    }
+    const auto independent = makeSampler("independent", spp, 7);
+    SampleStream block = SampleStream(*independent, 5, 3).blockContinuation(2), split = SampleStream(*independent, 5, 3).split(2, kBlockSize);
+    block.setDimension(40), split.setDimension(40);
+    const Point2 a = block.get2D(), b = split.get2D();
+    EXPECT_EQ(a.u, b.u);
+    EXPECT_EQ(a.v, b.v);
 }
 
 namespace {

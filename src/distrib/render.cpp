@@ -311,7 +311,9 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
         return renderSegmentDistributed(job, scene, accel, estimator, settings, state, upTo, progress, distributed);
     // --splitting ears: epoch by epoch, as renderSamples in one process. Rank 0, which holds the state,
     // says where each segment ends (0: no more); before it every rank gets rank 0's factors, after it rank
-    // 0 adds every rank's records and learns the next epoch's factors.
+    // 0 adds every rank's records and learns the next epoch's factors. Rank 0 alone runs the learning
+    // pass before the first epoch (it is small and the same at any thread count).
+    if (job.root() && std::min(upTo, state.sppBound) > state.samplesReached()) probeLearning(scene, accel, estimator, settings, state);
     for (;;) {
         std::uint32_t end = 0;
         if (job.root()) {

@@ -122,6 +122,7 @@ void forEachSection(State& s, Ears& e, Fn&& fn) {
 
 nlohmann::json earsHeader(const ears::Learning& l, const EarsSections& e) {
     return {{"epoch", l.epoch},
+            {"probed", l.probed},
             {"lo", {l.grid.lo().x, l.grid.lo().y, l.grid.lo().z}},
             {"hi", {l.grid.hi().x, l.grid.hi().y, l.grid.hi().z}},
             {"scale", l.factors.scale},
@@ -157,6 +158,12 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
     if (epoch > 32 || factorCells > ears::Grid::cellCount() || sumCells > ears::Learning::sumCount())
         throw std::invalid_argument("ears: epoch or cell counts out of range");
     l.epoch = static_cast<int>(epoch);
+    // "probed" (the learning pass before the first sample) is absent from checkpoints written before it
+    // existed: those renders had none, and a resumed one (past its first sample) runs none.
+    if (j.contains("probed")) {
+        if (!j.at("probed").is_boolean()) throw std::invalid_argument(fmt::format("ears probed: {} is not true or false", j.at("probed").dump()));
+        l.probed = j.at("probed").get<bool>();
+    }
     if (j.at("has_factors").get<bool>()) {
         l.factors.scale = j.at("scale").get<double>();
         if (!std::isfinite(l.factors.scale) || l.factors.scale < 0) throw std::invalid_argument("ears: its scale is not a finite number >= 0");

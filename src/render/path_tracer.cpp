@@ -10,6 +10,9 @@
 
 namespace symphong {
 
+// A first-hit vertex's continuations are a block of its sample's block points (SampleStream::blockContinuation).
+static_assert(ears::kMaxFactor <= kBlockSize, "a vertex's continuations must fit one block");
+
 namespace {
 
 std::vector<double> triangleAreas(const Scene& s, std::vector<Vec3>& normals) {
@@ -253,10 +256,11 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
 double PathTracer::continuationFactor(std::size_t finest, const Color& throughput, int depth) const {
     const ears::Factors& f = learning_->factors;
     if (depth == 0) {
-        // The first hit's factor is solved for its cell (splitting/ears.h learnFactors); where no cell has
-        // one yet, two continuations, so that the next epoch learns the within-vertex variance there.
+        // The first hit's factor is solved for its cell (splitting/ears.h learnFactors) and rounded to a
+        // power of two (firstHitBlock); where no cell has one yet, two continuations, so that the next
+        // epoch learns the within-vertex variance there.
         const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.firstHit, finest);
-        return cell >= 0 ? std::clamp(static_cast<double>(f.firstHit[static_cast<std::size_t>(cell)]), 1.0, ears::kMaxFactor) : ears::kUnknownFirstHitFactor;
+        return cell >= 0 ? ears::firstHitBlock(f.firstHit[static_cast<std::size_t>(cell)]) : ears::kUnknownFirstHitFactor;
     }
     const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.momentRatio, finest);
     double q = 1;
@@ -275,11 +279,15 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
                                      bool shadowed, double q,
                                      int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const {
     SampleStream& samples = pc.samples;
-    const double whole = std::floor(q);
-    std::uint32_t n = static_cast<std::uint32_t>(whole);  // E[n] = q: one more with probability q - floor(q)
-    if (q > whole) {  // (a whole q, 1 above all, draws nothing: u < 0 never holds)
+    // E[n] = q. Further on: floor(q), one more with probability q - floor(q). At the first hit (q in [1, 8]):
+    // a power of two, 2^floor(log2 q) or twice that with probability q / 2^floor(log2 q) - 1, so that the
+    // vertex's continuations are an aligned block of its sample's block points (a net among themselves,
+    // SampleStream::blockContinuation). A q that needs no rounding draws nothing.
+    const double whole = depth == 0 ? std::exp2(std::floor(std::log2(q))) : std::floor(q);
+    std::uint32_t n = static_cast<std::uint32_t>(whole);
+    if (q > whole) {
         samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
-        n += samples.get1D() < q - whole ? 1u : 0u;
+        if (samples.get1D() < (q - whole) / (depth == 0 ? whole : 1.0)) n += depth == 0 ? n : 1u;
     }
     // Splitting (q >= 1, so n >= 1): the mean of the n continuations, unbiased for any n drawn apart from
     // their values, and without the variance that weights 1/q would add (n / q varies: mean^2 Var(n) / q^2,
@@ -294,11 +302,17 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     for (std::uint32_t j = 0; j < n; ++j) {
         const std::uint64_t own = j == 0 ? path : SampleDimensions::splitPath(path, depth, j);
         dirs.clear();
-        // At the first hit continuation j reads block j of the first-hit estimator's dimensions (block 0:
-        // the unsplit render's), so that each is stratified over the pixel's camera samples as one is.
-        samples.setDimension(depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream, j)
-                                        : SampleDimensions::vertex(depth, own) + SampleDimensions::kEstimator);
-        estimator_.sample(sc, samples, dirs);
+        if (depth == 0) {
+            // At the first hit continuation j reads block point j of its sample (SampleStream::blockContinuation)
+            // at the first-hit estimator's dimensions: the vertex's n continuations are a net, and so is
+            // continuation j over the pixel's camera samples.
+            SampleStream block = samples.blockContinuation(j);
+            block.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream, 0));
+            estimator_.sample(sc, block, dirs);
+        } else {
+            samples.setDimension(SampleDimensions::vertex(depth, own) + SampleDimensions::kEstimator);
+            estimator_.sample(sc, samples, dirs);
+        }
         const std::uint64_t raysBefore = pc.stats.rays;
         Color value(0.0);
         for (std::size_t k = 0; k < dirs.size(); ++k) {

@@ -146,6 +146,58 @@ void startLearning(const Scene& scene, RenderState& state) {
     state.ears.emplace(ears::Grid(lo, hi));
 }
 
+void probeLearning(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state) {
+    if (settings.trace.splitting != SplittingMode::Ears || state.sppBound < ears::kProbeMinSpp) return;
+    startLearning(scene, state);
+    ears::Learning& learning = *state.ears;
+    if (learning.probed || learning.epoch > 0 || state.samplesReached() > 0) return;
+    const double cpuStart = processCpuSeconds();
+    const auto start = std::chrono::steady_clock::now();
+    const PathTracer tracer(scene, accel, estimator, settings.trace, &learning, true);
+    const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), ears::kProbeSamples, mixSeed(settings.seed, ears::kProbeSeed));
+    const CameraRays cameraRays(scene.camera, settings.width, settings.height);
+    const int tiles = tileCount(settings.width, settings.height);
+    // Per tile: its probed pixels' summed variance (added in tile order afterwards: the same double at any
+    // thread count), pixels, rays and paths.
+    std::vector<double> variance(static_cast<std::size_t>(tiles), 0.0);
+    std::vector<std::uint64_t> pixels(static_cast<std::size_t>(tiles), 0), rays(pixels), paths(pixels);
+    std::mutex learnMutex;
+    RenderSettings all = settings;
+    all.tiles = nullptr;  // every tile, on this process's threads
+    forEachTile(all, [&](int tile) {
+        TraceStats stats;
+        PathScratch scratch;
+        const auto t = static_cast<std::size_t>(tile);
+        forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) {
+            if (x % 2 != 0 || y % 2 != 0) return;
+            double sum = 0, squares = 0;
+            for (std::uint32_t i = 0; i < ears::kProbeSamples; ++i) {
+                SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
+                const Point2 jitter = samples.get2D();
+                Vec3 o, d;
+                cameraRays(x + jitter.u, y + jitter.v, o, d);
+                const Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
+                const double value = isFinite(L) && minComponent(L) >= 0 ? luminance(L) : 0.0;
+                sum += value, squares += value * value;
+            }
+            const double n = ears::kProbeSamples;
+            variance[t] += std::max(0.0, squares - sum * sum / n) / (n - 1);
+            ++pixels[t];
+        });
+        rays[t] = stats.rays, paths[t] = pixels[t] * ears::kProbeSamples + stats.extraPaths;
+        std::lock_guard<std::mutex> lock(learnMutex);
+        learning.add(scratch.splitRecords);
+    });
+    double v = 0;
+    std::uint64_t probed = 0, probeRays = 0, probePaths = 0;
+    for (std::size_t t = 0; t < variance.size(); ++t) v += variance[t], probed += pixels[t], probeRays += rays[t], probePaths += paths[t];
+    learning.learnFromProbe(probed ? v / static_cast<double>(probed) : 0.0, probeRays, probed * ears::kProbeSamples);
+    state.rays += probeRays, state.paths += probePaths;
+    learning.raysAtStart = state.rays;
+    state.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.cpuSeconds += processCpuSeconds() - cpuStart;
+}
+
 bool endEpochIfDone(RenderState& state) {
     // The render's last epoch (it reaches the spp) has no successor to learn for.
     if (!state.ears || ears::lastEpoch(state.ears->epoch, state.sppBound) ||
@@ -161,6 +213,7 @@ void renderSamples(const Scene& scene, const Accel& accel, const Estimator& esti
         return renderSegment(scene, accel, estimator, settings, state, upTo, progress);
     // Epoch by epoch: every tile finishes one before the factors of the next are learned.
     upTo = std::min(upTo, state.sppBound);
+    if (upTo > state.samplesReached()) probeLearning(scene, accel, estimator, settings, state);
     for (std::uint32_t reached = state.samplesReached(); reached < upTo; reached = state.samplesReached()) {
         renderSegment(scene, accel, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);
         endEpochIfDone(state);

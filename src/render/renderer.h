@@ -130,6 +130,15 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
 /// --splitting ears: the state's learning, made over the scene's bounds when it has none yet.
 void startLearning(const Scene& scene, RenderState& state);
 
+/// --splitting ears: the learning pass before the image's first sample (splitting/learning.h "probe"),
+/// once per render (state.ears->probed; a checkpoint carries it): ears::kProbeSamples camera samples of
+/// another seed's pattern in one pixel of every 2 x 2, traced with the unlearned factors and recorded,
+/// never added to the image. Its records, rays and per-pixel variance give the factors of the image's
+/// epoch 0 (ears::Learning::learnFromProbe); its rays and paths count in the state's. Nothing when the
+/// render has fewer than ears::kProbeMinSpp samples a pixel (epoch 0 then renders unlearned) or the
+/// probe already ran. Deterministic: the same factors at any thread count.
+void probeLearning(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state);
+
 /// --splitting ears: when every tile has finished the state's epoch, learns the next epoch's factors
 /// (from the epoch's sums, the rays and samples since it began and the image's variance per sample) and
 /// returns true.

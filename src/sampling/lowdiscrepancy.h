@@ -170,6 +170,37 @@ constexpr std::uint32_t owenScrambleExact(std::uint32_t v, std::uint32_t seed) {
     return out;
 }
 
+/// Blocks of a Sobol' (0,2)-sequence: the pixel's count = 2^k samples each own the aligned block of
+/// kBlockSize consecutive points [8 a, 8 a + 8) of a pattern of 8 x 2^k points (a: the sample's permuted
+/// index), and continuation j < 8 of sample a is point
+///   8 a + (f_k(a) XOR j),
+/// with f_k a GF(2)-linear map of a's bits into 3 bits. A sample's first n = 2^p continuations are an
+/// aligned sub-block of its block (XOR with j < n touches only the low p bits), so a (0,p,2)-net among
+/// themselves; and continuation j of all 2^k samples is a (0,k,2)-net: for j = 0 because f_k feeds a's top
+/// three bits into the three most significant digits of the first coordinate (the rows below were found
+/// by exhaustive search against sobolDimension0/1, tests/test_samplers.cpp checks them for k = 0..14; f_k
+/// repeats with period 4 in k >= 3, as the Pascal matrix mod 2 does), and for every other j because
+/// XOR with j adds the fixed vector point(j) to every point of a digital net (a digital shift, which keeps
+/// a net a net). Owen scrambling keeps both properties. A sample's own continuations are thus stratified
+/// (the smooth part of their integrand averages out faster than 1/n) while any one continuation across
+/// the pixel is as stratified as an unsplit render's direction. For a count that is not a power of two, k
+/// is the next power's: every property above holds only for the whole 2^k.
+inline constexpr std::uint32_t kBlockSize = 8;
+namespace detail {
+/// Rows of f_k (bit b of f_k(a) is the parity of row_b AND a): k = 1, 2 as masks of a's k bits; k >= 3 as
+/// masks of a's top three bits (bit 0 = a's bit k - 3), by k mod 4.
+inline constexpr std::uint32_t kBlockRowsSmall[3][3] = {{0, 0, 0}, {1, 0, 1}, {1, 2, 2}};
+inline constexpr std::uint32_t kBlockRowsTop[4][3] = {{2, 5, 6}, {1, 2, 5}, {1, 3, 6}, {1, 6, 4}};
+constexpr std::uint32_t parity(std::uint32_t v) { return static_cast<std::uint32_t>(std::popcount(v)) & 1u; }
+}  // namespace detail
+/// f_k(a) XOR j + 8 a: continuation j (< kBlockSize) of the sample with permuted index a < 2^k.
+constexpr std::uint32_t blockPoint(std::uint32_t a, std::uint32_t k, std::uint32_t j) {
+    const std::uint32_t* rows = k < 3 ? detail::kBlockRowsSmall[k] : detail::kBlockRowsTop[k % 4];
+    const std::uint32_t bits = k < 3 ? a : a >> (k - 3);
+    const std::uint32_t f = detail::parity(rows[0] & bits) | detail::parity(rows[1] & bits) << 1 | detail::parity(rows[2] & bits) << 2;
+    return a * kBlockSize + (f ^ j);
+}
+
 /// A fixed-point value as a double in [0, 1): v / 2^32.
 constexpr double fixedToUnit(std::uint32_t v) { return static_cast<double>(v) * (1.0 / 4294967296.0); }
 

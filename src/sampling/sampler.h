@@ -133,6 +133,21 @@ public:
         return {fixedToUnit(owenScrambledSobol0(j, static_cast<std::uint32_t>(h))),
                 fixedToUnit(owenScrambledSobol1(j, static_cast<std::uint32_t>(h >> 32)))};
     }
+    /// Continuation j (< kBlockSize) of sample `index` as a block point (lowdiscrepancy.h blockPoint): the
+    /// same scrambles and permutation as singleValue and pairValue, point blockPoint(permuted index, k, j)
+    /// of the pattern of kBlockSize x count, k = the bits of count - 1.
+    static double blockSingleValue(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint32_t j) {
+        const std::uint64_t h = mixSeed(key, 2 * dim + 1);
+        const std::uint32_t a = permuteSamples(index, count, static_cast<std::uint32_t>(h >> 32));
+        return fixedToUnit(owenScrambledSobol0(blockPoint(a, blockBits(count), j), static_cast<std::uint32_t>(h)));
+    }
+    static Point2 blockPairValue(std::uint64_t key, std::uint32_t index, std::uint32_t count, std::uint64_t dim, std::uint32_t j) {
+        const std::uint64_t h = mixSeed(key, 2 * dim);
+        const std::uint32_t point = blockPoint(permuteSamples(index, count, pairPermutationSeed(h)), blockBits(count), j);
+        return {fixedToUnit(owenScrambledSobol0(point, static_cast<std::uint32_t>(h))),
+                fixedToUnit(owenScrambledSobol1(point, static_cast<std::uint32_t>(h >> 32)))};
+    }
+    static std::uint32_t blockBits(std::uint32_t count) { return count <= 1 ? 0u : static_cast<std::uint32_t>(std::bit_width(count - 1)); }
     /// The seed of a pair's permutation of the pixel's sample indices, from its hash: the high half of h times an odd constant.
     static std::uint32_t pairPermutationSeed(std::uint64_t h) { return static_cast<std::uint32_t>((h * 0xD6E8FEB86659FD93ull) >> 32); }
     /// (owen(sobol_2(j), s_0'), owen(sobol_3(j), s_1')), j the partner pair's permuted index, s' hashed from dim.
@@ -203,6 +218,17 @@ public:
         return s;
     }
 
+    /// Continuation j (< kBlockSize) of this sample (--splitting ears at the first hit): sub-sample j of
+    /// kBlockSize (split), except that under sobol get1D and get2D read point blockPoint(a, k, j) of the
+    /// pattern of kBlockSize x count (a the dimension's permuted index of this sample): a sample's first 2^p
+    /// continuations are then a net among themselves, and continuation j of the pixel's samples one net
+    /// too (lowdiscrepancy.h). Everything else (get3D, the spread patterns) reads the split sub-sample.
+    SampleStream blockContinuation(std::uint32_t j) const {
+        SampleStream s = split(j, kBlockSize);
+        s.block_ = sobol_;
+        return s;
+    }
+
     void setDimension(std::uint64_t dim) { dim_ = dim; }
     /// The same sample of the same pixel read through another sampler (e.g. a JointPairView of this one).
     SampleStream through(const Sampler& sampler) const {
@@ -215,10 +241,14 @@ public:
     std::uint64_t dimension() const { return dim_; }
     double get1D() {
         const std::uint64_t d = dim_++;
-        return sobol_ ? SobolSampler::singleValue(key_, index_, count_, d) : sampler_->value1D(key_, index_, count_, d);
+        if (!sobol_) return sampler_->value1D(key_, index_, count_, d);
+        return block_ ? SobolSampler::blockSingleValue(key_, index_ / kBlockSize, count_ / kBlockSize, d, index_ % kBlockSize)
+                      : SobolSampler::singleValue(key_, index_, count_, d);
     }
     Point2 get2D() {
-        const Point2 p = sobol_ ? SobolSampler::pairValue(key_, index_, count_, dim_) : sampler_->value2D(key_, index_, count_, dim_);
+        const Point2 p = !sobol_ ? sampler_->value2D(key_, index_, count_, dim_)
+                         : block_ ? SobolSampler::blockPairValue(key_, index_ / kBlockSize, count_ / kBlockSize, dim_, index_ % kBlockSize)
+                                  : SobolSampler::pairValue(key_, index_, count_, dim_);
         dim_ += 2;
         return p;
     }
@@ -276,6 +306,7 @@ private:
     std::uint32_t index_;
     std::uint32_t count_;  ///< samples of the pattern: the pixel's spp, or spp x k for a split stream
     bool sobol_;           ///< sampler_ is a SobolSampler: its values inline
+    bool block_ = false;   ///< a sobol blockContinuation: get1D and get2D read block points
     std::uint64_t dim_;
 };
 

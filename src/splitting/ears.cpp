@@ -39,6 +39,11 @@ double toDouble(Wide v) { return static_cast<double>(v) / kFixedPoint; }
 
 }  // namespace
 
+double firstHitBlock(double q) {
+    if (!(q > 1)) return 1;  // NaN too
+    return std::min(kMaxFactor, std::exp2(std::round(std::log2(q))));
+}
+
 double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale) {
     const double split = throughput * varianceRatio * scale;  // q_split = T sqrt(v / C_x) sqrt(C / V)
     const double roulette = throughput * momentRatio * scale;  // q_rr = T sqrt(M / C_x) sqrt(C / V)

@@ -52,6 +52,13 @@ inline constexpr double kUnknownFirstHitFactor = 2;
 /// `scale` sqrt(C / V). Clamped to [kMinFactor, kMaxFactor]; NaN in, kMinFactor out.
 double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale);
 
+/// The first hit's number of continuations for the model's optimum q: the power of two nearest to q on a
+/// log scale (2^round(log2 q)), in [1, kMaxFactor]: the same at every vertex of a cell, and a whole block
+/// of block points (SampleStream::blockContinuation), so that a pixel's first-hit continuations stay a net.
+/// It is also the best power of two for the model: a cell's share of V x C near the optimum goes as
+/// a / n + b n, whose ratio to its minimum, (q/n + n/q) / 2, depends on log(n / q) alone and symmetrically.
+double firstHitBlock(double q);
+
 /// Exact sums of one region's continuations: their number, rays, values and squared values in units of
 /// 2^-40 (unsigned 128-bit integers; values are clamped to [0, 2^23], so that a value fits 64 bits and its
 /// square is one exact 64 x 64-bit product), so that adding the same records in
@@ -153,7 +160,8 @@ struct EpochMeasure {
 /// within-vertex variance, C_c the rays of one continuation; V0 and C0 what the epoch measured less the
 /// first hit's continuations at the factors it had), solved at once rather than one step per epoch:
 /// q_c = lambda sqrt(v_c / C_c) clamped to [1, kMaxFactor] with lambda^2 = C(q) / V(q) (found by
-/// bisection); lambda is the scale. No factors at all when V is not positive.
+/// bisection); lambda is the scale (a vertex takes firstHitBlock(q_c) continuations). No factors at all
+/// when V is not positive.
 Factors learnFactors(const std::vector<CellSums>& sums, const EpochMeasure& epoch);
 
 /// Sums of the finest cells (where Learning::add puts records) added into every coarser cell that holds

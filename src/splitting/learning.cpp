@@ -47,12 +47,39 @@ void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64
     m.costPerSample = m.cameraSamples > 0 ? static_cast<double>(rays - raysAtStart) / m.cameraSamples : 0;
     m.variancePerSample = epoch == 0 ? variancePerSample : std::max(2 * variancePerSample - varianceAtStart, 0.25 * variancePerSample);
     propagateToCoarserCells(sums);
-    factors = learnFactors(sums, m);
+    Factors next = learnFactors(sums, m);
+    // After a probe (see kProbeSamples) the first hit's factors may fall at the end of epoch 0, never rise,
+    // and hold from then on.
+    if (probed && !factors.empty() && !next.empty()) {
+        if (epoch == 0) {
+            for (std::size_t c = 0; c < next.firstHit.size(); ++c)
+                if (factors.firstHit[c] >= 0 && (next.firstHit[c] < 0 || factors.firstHit[c] < next.firstHit[c])) next.firstHit[c] = factors.firstHit[c];
+        } else {
+            next.firstHit = std::move(factors.firstHit);
+        }
+    }
+    factors = std::move(next);
     sums.assign(sumCount(), CellSums{});
     varianceAtStart = variancePerSample;
     ++epoch;
     raysAtStart = rays;
     samplesAtStart = samples;
+}
+
+void Learning::learnFromProbe(double variancePerSample, std::uint64_t rays, std::uint64_t samples) {
+    EpochMeasure m;
+    m.cameraSamples = static_cast<double>(samples);
+    m.costPerSample = samples > 0 ? static_cast<double>(rays) / static_cast<double>(samples) : 0;
+    m.variancePerSample = variancePerSample;
+    propagateToCoarserCells(sums);
+    factors = learnFactors(sums, m);
+    // Deeper vertices go unlearned through epoch 0, as without a probe: the probe's few pixels measure the
+    // image's variance V too unevenly for the scale sqrt(C / V) that every deeper factor takes (seeds whose
+    // probe missed the rare bright paths split every bounce up to 8 times).
+    std::fill(factors.varianceRatio.begin(), factors.varianceRatio.end(), -1.0f);
+    std::fill(factors.momentRatio.begin(), factors.momentRatio.end(), -1.0f);
+    sums.assign(sumCount(), CellSums{});
+    probed = true;
 }
 
 }  // namespace symphong::ears

@@ -1,7 +1,8 @@
 // splitting/learning.h — when and from what a render learns its EARS factors. The samples of a pixel
-// come in epochs of doubling size: samples [0, 2) are epoch 0, rendered without learned factors, and
-// samples [2^e, 2^(e+1)) are epoch e, rendered with the factors learned from epoch e - 1's continuations
-// (and the image's variance and cost so far). So the factors a sample uses depend only on samples of
+// come in epochs of doubling size: samples [0, 2) are epoch 0, rendered with the first-hit factors of a
+// probe (a small learning pass whose samples are not the image's, below) or, in renders too short for
+// one, without learned factors, and samples [2^e, 2^(e+1)) are epoch e, rendered with the factors learned
+// from epoch e - 1's continuations (and the image's variance and cost so far). So the factors a sample uses depend only on samples of
 // earlier epochs, never on the sample itself (the estimate stays unbiased), and not on how the render
 // was cut into passes, threads, ranks or runs: every tile finishes an epoch before any tile starts the
 // next, and the sums are exact integers (splitting/ears.h CellSums), the same in any order of adding.
@@ -35,8 +36,23 @@ std::uint32_t epochStart(int epoch);
 /// Whether epoch e is the last of a render of `spp` samples (it reaches the spp): no epoch learns from it.
 inline bool lastEpoch(int epoch, std::uint32_t spp) { return epochEnd(epochStart(epoch)) >= spp; }
 
+/// The probe: before the image's first sample, kProbeSamples camera samples of a pattern of its own (the
+/// render's seed mixed with kProbeSeed) in one pixel of every 2 x 2, traced and recorded like epoch 0 but
+/// never added to the image, teach epoch 0 its factors (render/renderer.h probeLearning). The image's
+/// samples then split their first hits by one fixed factor per cell from the first sample on: the factors
+/// of the first hit are learned from the probe alone and kept for the whole render, since a pixel whose
+/// samples took different numbers of first-hit continuations would break the block pattern of those
+/// continuations (SampleStream::blockContinuation: a sample with fewer continuations leaves holes in the
+/// pixel's net, and an unsplit epoch 0 in the image cost the smooth-sky scene most of its gain). Deeper
+/// vertices learn on from epoch to epoch. Renders of fewer than kProbeMinSpp samples a pixel have no probe
+/// (it would cost them too large a share): their epoch 0 renders unlearned, every later one as above.
+inline constexpr std::uint32_t kProbeSamples = 2;
+inline constexpr std::uint32_t kProbeMinSpp = 8;
+inline constexpr std::uint64_t kProbeSeed = 0x70726f6265ull;
+
 struct Learning {
     Grid grid;
+    bool probed = false;             ///< the probe ran: its first-hit factors hold for the whole render
     int epoch = 0;                   ///< the epoch being rendered
     Factors factors;                 ///< its factors (none in epoch 0, or when the image had no variance)
     std::vector<CellSums> sums;      ///< its records so far, per section (ears.h Section) and cell of every level
@@ -55,11 +71,16 @@ struct Learning {
     void add(const std::vector<Record>& records);
     /// Adds another process's or thread's sums of the same epoch.
     void add(const std::vector<CellSums>& other);
-    /// Ends the epoch: the next one's factors from this one's sums, its cost per camera sample (from the
+    /// Ends the epoch: the next one's factors from this one's sums (after a probe, the first hit's: the
+    /// lesser of the probe's and epoch 0's at the end of epoch 0, then those for good), its cost per camera sample (from the
     /// render's rays and samples now) and its variance per camera sample, from the image's over all
     /// samples now (`variancePerSample`) and at the epoch's start: an epoch after the first has as many
     /// samples as all before it, so its variance is about 2 V_now - V_start.
     void advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples);
+    /// Ends the probe: epoch 0's first-hit factors from its sums, `rays` over its `samples` camera samples
+    /// and the variance per camera sample of its pixels (deeper vertices stay unlearned); the sums start
+    /// empty for epoch 0, the epoch stays 0.
+    void learnFromProbe(double variancePerSample, std::uint64_t rays, std::uint64_t samples);
 };
 
 }  // namespace symphong::ears
