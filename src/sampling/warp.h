@@ -2,6 +2,7 @@
 // to triangles, each with its density. Solid-angle densities unless stated otherwise.
 #pragma once
 
+#include "math/trig.h"
 #include "math/vec3.h"
 #include "sampling/rng.h"
 
@@ -14,9 +15,16 @@ inline Vec3 sphericalDirection(double cosTheta, double phi) {
     const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
     return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
 }
+/// The same with phi = 2 pi v (v in [0, 1]), its sine and cosine by math/trig.h sinCosTurn: what the
+/// warps below draw.
+inline Vec3 sphericalDirectionTurn(double cosTheta, double v) {
+    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+    const SinCos phi = sinCosTurn(v);
+    return {sinTheta * phi.cos, sinTheta * phi.sin, cosTheta};
+}
 
 /// Uniform hemisphere: cos(theta) = u, phi = 2 pi v.  p(w) = 1 / (2 pi).
-inline Vec3 sampleUniformHemisphere(Point2 p) { return sphericalDirection(p.u, kTwoPi * p.v); }
+inline Vec3 sampleUniformHemisphere(Point2 p) { return sphericalDirectionTurn(p.u, p.v); }
 inline double uniformHemispherePdf(const Vec3& w) { return w.z > 0 ? 1.0 / kTwoPi : 0.0; }
 
 /// Shirley-Chiu concentric map of [0,1)^2 onto the unit disk; area-preserving up to the factor pi,
@@ -24,15 +32,13 @@ inline double uniformHemispherePdf(const Vec3& w) { return w.z > 0 ? 1.0 / kTwoP
 inline Point2 sampleConcentricDisk(Point2 p) {
     const double a = 2.0 * p.u - 1.0, b = 2.0 * p.v - 1.0;
     if (a == 0 && b == 0) return {0, 0};
-    double r, phi;
+    // phi = pi/4 (b/a), or pi/2 - pi/4 (a/b) whose cosine and sine are the sine and cosine of pi/4 (a/b).
     if (std::abs(a) > std::abs(b)) {
-        r = a;
-        phi = (kPi / 4.0) * (b / a);
-    } else {
-        r = b;
-        phi = (kPi / 2.0) - (kPi / 4.0) * (a / b);
+        const SinCos t = sinCosQuarter((kPi / 4.0) * (b / a));
+        return {a * t.cos, a * t.sin};
     }
-    return {r * std::cos(phi), r * std::sin(phi)};
+    const SinCos t = sinCosQuarter((kPi / 4.0) * (a / b));
+    return {b * t.sin, b * t.cos};
 }
 
 /// Cosine-weighted hemisphere (Malley: project the concentric disk up).  p(w) = cos(theta) / pi.
@@ -45,7 +51,7 @@ inline double cosineHemispherePdf(const Vec3& w) { return w.z > 0 ? w.z * kInvPi
 
 /// Phong lobe around +Z: cos(alpha) = u^(1/(n+1)), phi = 2 pi v.  p(w) = (n+1)/(2 pi) cos^n(alpha),
 /// over the whole sphere's upper cap around the axis (alpha in [0, pi/2]).
-inline Vec3 samplePhongLobe(Point2 p, double n) { return sphericalDirection(std::pow(p.u, 1.0 / (n + 1.0)), kTwoPi * p.v); }
+inline Vec3 samplePhongLobe(Point2 p, double n) { return sphericalDirectionTurn(std::pow(p.u, 1.0 / (n + 1.0)), p.v); }
 inline double phongLobePdf(double cosAlpha, double n) { return cosAlpha > 0 ? (n + 1.0) / kTwoPi * std::pow(cosAlpha, n) : 0.0; }
 
 /// Uniform point on a triangle as barycentrics (b0, b1); b2 = 1 - b0 - b1.  p = 1 / area.
