@@ -13,9 +13,6 @@ namespace symphong {
 
 namespace {
 
-/// Bundles of at most this many rays are traced ray by ray (rtcIntersect1), larger ones as 16-wide packets.
-constexpr std::size_t kSingleRaysUpTo = 4;
-
 void onEmbreeError(void*, RTCError code, const char* message) {
     // Embree calls this on its own threads; we cannot throw through it, so report and abort the query.
     fmt::print(stderr, "symphong: Embree error {}: {}\n", static_cast<int>(code), message ? message : "");

@@ -47,6 +47,9 @@ public:
     /// whether ray i hit; hits[i] is its hit. The same answers as intersect() ray by ray, to float
     /// round-off of the packet kernels.
     void intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found) const;
+    /// Bundles of at most this many rays go ray by ray (rtcIntersect1): a packet costs about what a full one
+    /// does however few of its lanes are active. Larger ones go as 16-wide packets.
+    static constexpr std::size_t kSingleRaysUpTo = 4;
     /// Whether anything blocks o + t d for t in (tnear, tfar).
     bool occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) const;
 

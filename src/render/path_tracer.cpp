@@ -174,9 +174,14 @@ Color PathTracer::continuePath(const ShadingContext& sc, const Frame& frame, con
     // continues this path.
     const double branches = static_cast<double>(std::max<std::size_t>(1, dirs.size()));
     const bool branching = dirs.size() > 1;
-    // Only a branching vertex gathers its rays into a bundle; a single direction continues at once.
+    // Only a set too large to go ray by ray anyway (Accel::kSingleRaysUpTo: --split 2's pair, a small set)
+    // gathers its rays into a bundle for packets; a single direction, or each of a small set's, continues
+    // at once: the same queries, paths and sums in the same order, without the bundle's bookkeeping.
+    const bool bundled = dirs.size() > Accel::kSingleRaysUpTo;
     RayBundle* bundle = nullptr;
-    if (branching) {
+    Color L(0.0);
+    std::uint64_t traced = 0;
+    if (bundled) {
         bundle = &pc.scratch.bundles[static_cast<std::size_t>(depth)];
         bundle->rays.clear();
         bundle->dirs.clear();
@@ -196,10 +201,19 @@ Color PathTracer::continuePath(const ShadingContext& sc, const Frame& frame, con
             next /= survive;
         }
         if (!branching) return weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
+        if (!bundled) {
+            L += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf, next, pc) / survive;
+            ++traced;
+            continue;
+        }
         bundle->dirs.push_back(wi);
         bundle->rays.push_back({weight, next, s.misPdf, survive, nextPath});
     }
-    if (!bundle || bundle->rays.empty()) return Color(0.0);
+    if (!bundled) {
+        if (traced > 1) pc.stats.extraPaths += traced - 1;  // as traceBundle counts a bundle's rays beyond the first
+        return L;
+    }
+    if (bundle->rays.empty()) return Color(0.0);
     return traceBundle(origin, *bundle, depth, pc);
 }
 
