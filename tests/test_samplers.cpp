@@ -448,25 +448,21 @@ TEST(SampleStream, BlockContinuationsAreNetsUnderSobol) {
     const std::uint32_t spp = 16;
     const SobolSampler sobol(spp, 7);
     for (std::uint64_t dim : {std::uint64_t{2}, std::uint64_t{1} << 40}) {
+        const auto point = [&](std::uint32_t i, std::uint32_t j) {
+            SampleStream s = SampleStream(sobol, 5, i).blockContinuation(j);
+            s.setDimension(dim);
+            const Point2 p = s.get2D();
+            EXPECT_EQ(s.dimension(), dim + 2);
+            return FixedPoint{toFixed(p.u), toFixed(p.v)};
+        };
         for (std::uint32_t j = 0; j < kBlockSize; ++j) {
             std::vector<FixedPoint> across(spp);
-            for (std::uint32_t i = 0; i < spp; ++i) {
-                SampleStream s = SampleStream(sobol, 5, i).blockContinuation(j);
-                s.setDimension(dim);
-                const Point2 p = s.get2D();
-                across[i] = {toFixed(p.u), toFixed(p.v)};
-                EXPECT_EQ(s.dimension(), dim + 2);
-            }
+            for (std::uint32_t i = 0; i < spp; ++i) across[i] = point(i, j);
             EXPECT_EQ(netFailure(across), "") << "continuation " << j << ", dim " << dim;
         }
         for (std::uint32_t i = 0; i < spp; ++i) {
             std::vector<FixedPoint> own(kBlockSize);
-            for (std::uint32_t j = 0; j < kBlockSize; ++j) {
-                SampleStream s = SampleStream(sobol, 5, i).blockContinuation(j);
-                s.setDimension(dim);
-                const Point2 p = s.get2D();
-                own[j] = {toFixed(p.u), toFixed(p.v)};
-            }
+            for (std::uint32_t j = 0; j < kBlockSize; ++j) own[j] = point(i, j);
             EXPECT_EQ(netFailure(own), "") << "sample " << i << ", dim " << dim;
         }
     }
