@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -330,7 +331,8 @@ TEST(EarsLearn, AfterTheProbeFirstHitFactorsOnlyFallThenHold) {
 }
 
 // The probe runs once, before the first sample, in renders of at least kProbeMinSpp samples; its samples
-// are not the image's (the state counts only the image's camera samples, and its rays add to the render's).
+// are not the image's (the state counts only the image's camera samples, and its rays add to the render's);
+// cancelled part way it learns nothing.
 TEST(EarsRender, TheProbeRunsOnceAndStaysOutOfTheImage) {
     const Scene scene = test::makeFurnaceSphere(1.0, 0.5);
     const Accel accel(scene);
@@ -349,6 +351,22 @@ TEST(EarsRender, TheProbeRunsOnceAndStaysOutOfTheImage) {
         renderSamples(scene, accel, *est, rs, state, spp);
         EXPECT_EQ(state.ears->probed, probed);
         EXPECT_EQ(state.samples, 8u * 8u * spp);
+    }
+    // Cancelled, the probe learns nothing and counts nothing; run again, it probes.
+    {
+        RenderSettings rs = earsSettings(8, 8, 16, 17);
+        RenderState state(8, 8, 16);
+        const std::atomic<bool> stop{true};
+        rs.cancel = &stop;
+        probeLearning(scene, accel, *est, rs, state);
+        ASSERT_TRUE(state.ears);
+        EXPECT_FALSE(state.ears->probed);
+        EXPECT_EQ(state.rays, 0u);
+        EXPECT_TRUE(std::all_of(state.ears->sums.begin(), state.ears->sums.end(), [](const ears::CellSums& c) { return c.empty(); }));
+        rs.cancel = nullptr;
+        probeLearning(scene, accel, *est, rs, state);
+        EXPECT_TRUE(state.ears->probed);
+        EXPECT_GT(state.rays, 0u);
     }
     // Resumed past its first sample, a render that never probed runs none.
     RenderSettings rs = earsSettings(8, 8, 16, 17);

@@ -164,7 +164,9 @@ void probeLearning(const Scene& scene, const Accel& accel, const Estimator& esti
     std::mutex learnMutex;
     RenderSettings all = settings;
     all.tiles = nullptr;  // every tile, on this process's threads
+    const auto cancelled = [&] { return settings.cancel && settings.cancel->load(std::memory_order_relaxed); };
     forEachTile(all, [&](int tile) {
+        if (cancelled()) return;
         TraceStats stats;
         PathScratch scratch;
         const auto t = static_cast<std::size_t>(tile);
@@ -188,6 +190,11 @@ void probeLearning(const Scene& scene, const Accel& accel, const Estimator& esti
         std::lock_guard<std::mutex> lock(learnMutex);
         learning.add(scratch.splitRecords);
     });
+    if (cancelled()) {
+        // Stopped part way: nothing learned (a resumed render probes again, the same way).
+        learning.sums.assign(ears::Learning::sumCount(), ears::CellSums{});
+        return;
+    }
     double v = 0;
     std::uint64_t probed = 0, probeRays = 0, probePaths = 0;
     for (std::size_t t = 0; t < variance.size(); ++t) v += variance[t], probed += pixels[t], probeRays += rays[t], probePaths += paths[t];

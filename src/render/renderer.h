@@ -136,7 +136,8 @@ void startLearning(const Scene& scene, RenderState& state);
 /// never added to the image. Its records, rays and per-pixel variance give the factors of the image's
 /// epoch 0 (ears::Learning::learnFromProbe); its rays and paths count in the state's. Nothing when the
 /// render has fewer than ears::kProbeMinSpp samples a pixel (epoch 0 then renders unlearned) or the
-/// probe already ran. Deterministic: the same factors at any thread count.
+/// probe already ran. Deterministic: the same factors at any thread count. Cancelled (settings.cancel)
+/// part way, it learns nothing and leaves the probe to be run again.
 void probeLearning(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state);
 
 /// --splitting ears: when every tile has finished the state's epoch, learns the next epoch's factors
