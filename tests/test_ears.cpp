@@ -222,8 +222,9 @@ TEST(EarsLearn, FirstHitFactorsAreTheModelsOptimumInOneEpoch) {
         for (double b = 1; b <= ears::kMaxFactor; b += 0.01) ASSERT_GE(product(a, b), best * (1 - 1e-6)) << a << " " << b;
 }
 
-// The continuations of a split vertex (n of them, varying from vertex to vertex): at the first hit, block j
-// of the first-hit estimator's dimensions; further on, the dimensions of a path of their own. Each direction
+// The continuations of a split vertex (n of them, varying from vertex to vertex): at the first hit, block
+// point j of its sample (SampleStream::blockContinuation) at the first-hit estimator's dimensions, as
+// PathTracer::splitContinuations reads them; further on, the dimensions of a path of their own. Each direction
 // follows the estimator's density, and none repeats another of its pixel (a repeat would show as too many
 // directions in a cell).
 TEST(EarsSplitDirections, FollowTheEstimatorsDensity) {
@@ -249,8 +250,8 @@ TEST(EarsSplitDirections, FollowTheEstimatorsDensity) {
                 const std::uint32_t n = 1 + (pixel + i) % 8;
                 for (std::uint32_t j = 0; j < n; ++j, ++calls) {
                     const std::uint64_t path = j == 0 ? 0 : SampleDimensions::splitPath(0, 1, j);
-                    SampleStream s = streams.at(i);
-                    s.setDimension(firstHit ? SampleDimensions::firstHitEstimator(0, j) : SampleDimensions::vertex(1, path) + SampleDimensions::kEstimator);
+                    SampleStream s = firstHit ? streams.at(i).blockContinuation(j) : streams.at(i);
+                    s.setDimension(firstHit ? SampleDimensions::firstHitEstimator(0) : SampleDimensions::vertex(1, path) + SampleDimensions::kEstimator);
                     out.clear();
                     est->sample(ctx, s, out);
                     for (const auto& d : out) dirs.push_back(d.wi);

@@ -242,7 +242,7 @@ Color PathTracer::traceBundle(const Vec3& origin, RayBundle& bundle, int depth, 
 // --first-bounce-stream), through a JointPairView for --joint-first-bounce, and k calls on the camera
 // sample's k sub-samples for --split k (each direction's weight / k, its set density x k).
 void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const {
-    const std::uint64_t dim = SampleDimensions::firstHitEstimator(settings_.firstBounceStream, 0);
+    const std::uint64_t dim = SampleDimensions::firstHitEstimator(settings_.firstBounceStream);
     samples.setDimension(dim);
     if (settings_.jointFirstBounce && settings_.firstHitSplit <= 1) {
         const JointPairView joint(samples.sampler(), dim, SampleDimensions::kPixel);
@@ -321,7 +321,7 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
             // at the first-hit estimator's dimensions: the vertex's n continuations are a net, and so is
             // continuation j over the pixel's camera samples.
             SampleStream block = samples.blockContinuation(j);
-            block.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream, 0));
+            block.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream));
             estimator_.sample(sc, block, dirs);
         } else {
             samples.setDimension(SampleDimensions::vertex(depth, own) + SampleDimensions::kEstimator);

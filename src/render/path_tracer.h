@@ -63,18 +63,15 @@ struct SampleDimensions {
     static constexpr std::uint64_t kFirstHitEstimator = 1ull << 40;  ///< the first hit's estimator: a block of any size
     static constexpr std::uint64_t kFirstHitStreamStride =
         1ull << 32;  ///< TraceSettings::firstBounceStream s reads from kFirstHitEstimator + s x this
-    static constexpr std::uint64_t kFirstHitSplitStride = 1ull << 24;  ///< a first-hit continuation's block (< the stream stride / 8)
     static constexpr std::uint64_t kFirstSplitPath = 1u << 20;  ///< --splitting ears's continuation paths: from here on
     static constexpr std::uint64_t kPathCount = 1u << 26;       ///< paths x kPathStride stay below kFirstHitEstimator
     /// First dimension of the vertex at `depth` of path `path`.
     static constexpr std::uint64_t vertex(int depth, std::uint64_t path) {
         return kFirstBounce + path * kPathStride + static_cast<std::uint64_t>(depth) * kPerBounce;
     }
-    /// The first hit's estimator: stream s (TraceSettings::firstBounceStream), continuation j of a vertex
-    /// split by --splitting ears (0 for every other render).
-    static constexpr std::uint64_t firstHitEstimator(std::uint32_t stream, std::uint32_t j) {
-        return kFirstHitEstimator + stream * kFirstHitStreamStride + static_cast<std::uint64_t>(j) * kFirstHitSplitStride;
-    }
+    /// The first hit's estimator: stream s (TraceSettings::firstBounceStream). A vertex split by
+    /// --splitting ears reads continuation j there as block point j of its sample (SampleStream::blockContinuation).
+    static constexpr std::uint64_t firstHitEstimator(std::uint32_t stream) { return kFirstHitEstimator + stream * kFirstHitStreamStride; }
     /// --splitting ears: the path that continuation j >= 1 of the vertex at `depth` of `path` starts (its
     /// own dimensions from that vertex on; continuation 0 continues `path`), hashed into
     /// [kFirstSplitPath, kPathCount), clear of the paths 1..K of a set's branches.
@@ -150,11 +147,11 @@ private:
     /// before the roulette depth; where no cell has an estimate yet, 1 before the roulette depth and the
     /// throughput's largest component, at most 0.95, from it on).
     double continuationFactor(std::size_t finest, const Color& throughput, int depth) const;
-    /// --splitting ears: floor(q + u) = n continuations, averaged (weight 1/n; under roulette, q < 1,
+    /// --splitting ears: floor(q + u) = n continuations (at the first hit a power of two), averaged (weight 1/n; under roulette, q < 1,
     /// 1/q), their directions' MIS densities times q; each is reported with its value and rays in
     /// scratch.splitRecords (in cell `cell`, the vertex's finest) unless this is the render's last epoch. Continuation j >= 1 starts a
-    /// path of its own (SampleDimensions::splitPath), and at the first hit reads the estimator from a
-    /// block of its own (SampleDimensions::firstHitEstimator): no two calls in a pixel share a number.
+    /// path of its own (SampleDimensions::splitPath), and at the first hit reads the estimator as block
+    /// point j of its sample (SampleStream::blockContinuation): no two calls in a pixel share a number.
     Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
                              double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
