@@ -293,15 +293,14 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
                                      bool shadowed, double q,
                                      int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const {
     SampleStream& samples = pc.samples;
-    // E[n] = q. Further on: floor(q), one more with probability q - floor(q). At the first hit (q in [1, 8]):
-    // a power of two, 2^floor(log2 q) or twice that with probability q / 2^floor(log2 q) - 1, so that the
-    // vertex's continuations are an aligned block of its sample's block points (a net among themselves,
-    // SampleStream::blockContinuation). A q that needs no rounding draws nothing.
-    const double whole = depth == 0 ? std::exp2(std::floor(std::log2(q))) : std::floor(q);
+    // E[n] = q: floor(q), one more with probability q - floor(q). The first hit's q is a power of two already
+    // (continuationFactor: firstHitBlock), so n = q there and its continuations are an aligned block of its
+    // sample's block points (SampleStream::blockContinuation). A whole q draws nothing.
+    const double whole = std::floor(q);
     std::uint32_t n = static_cast<std::uint32_t>(whole);
     if (q > whole) {
         samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
-        if (samples.get1D() < (q - whole) / (depth == 0 ? whole : 1.0)) n += depth == 0 ? n : 1u;
+        n += samples.get1D() < q - whole ? 1u : 0u;
     }
     // Splitting (q >= 1, so n >= 1): the mean of the n continuations, unbiased for any n drawn apart from
     // their values, and without the variance that weights 1/q would add (n / q varies: mean^2 Var(n) / q^2,
