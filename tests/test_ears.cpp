@@ -4,8 +4,8 @@
 // (chi-square), unbiasedness (the closed furnace, and the mean image against phong on every study
 // scene, 4 sigma), determinism across threads and passes, a checkpoint's round trip, and bad values.
 #include "render/checkpoint.h"
-#include "sampling/warp.h"
 #include "sample_util.h"
+#include "sampling/warp.h"
 #include "stats.h"
 #include "test_util.h"
 
@@ -46,6 +46,19 @@ TEST(EarsFactor, SplitsByVarianceRoulettesBySecondMomentAndClamps) {
     EXPECT_DOUBLE_EQ(ears::splittingFactor(1e-4, 1, 1, 1), ears::kMinFactor);
     EXPECT_DOUBLE_EQ(ears::splittingFactor(std::nan(""), 1, 1, 1), ears::kMinFactor);
     EXPECT_DOUBLE_EQ(ears::splittingFactor(1, 0, 0, 1), ears::kMinFactor);  // a region that never brings light back
+}
+
+// Plain roulette's survival (the factor of an unlearned deeper vertex) and the floor that a low-discrepancy
+// sampler puts under a learned roulette factor: roulette no harsher than plain's, splitting untouched.
+TEST(EarsFactor, RouletteFloorIsPlainRoulettesSurvival) {
+    EXPECT_DOUBLE_EQ(ears::throughputSurvival(0.4), 0.4);
+    EXPECT_DOUBLE_EQ(ears::throughputSurvival(3.0), 0.95);
+    EXPECT_DOUBLE_EQ(ears::throughputSurvival(1e-6), ears::kMinFactor);
+    EXPECT_DOUBLE_EQ(ears::throughputSurvival(std::nan("")), ears::kMinFactor);
+    EXPECT_DOUBLE_EQ(ears::flooredRoulette(0.1, 0.5), 0.5);   // EARS's roulette harsher: plain's
+    EXPECT_DOUBLE_EQ(ears::flooredRoulette(0.7, 0.3), 0.7);   // gentler: its own
+    EXPECT_DOUBLE_EQ(ears::flooredRoulette(2.5, 0.95), 2.5);  // splitting: unchanged
+    EXPECT_DOUBLE_EQ(ears::flooredRoulette(1.0, 0.95), 1.0);
 }
 
 // Two regions with known variance and cost: the fixed point of q <- T sqrt(v/C_x) sqrt(C(q)/V(q)), iterated
@@ -142,8 +155,8 @@ TEST(EarsGrid, EveryLevelCoversTheBoxAndTheFinestKnownCellIsChosen) {
     std::size_t first = 0;
     for (int level = 0; level < ears::Grid::kLevels; ++level) {
         const std::size_t r = static_cast<std::size_t>(ears::Grid::kResolution[static_cast<std::size_t>(level)]);
-        EXPECT_EQ(grid.cell(Vec3(-1, 0, 2), level), first);                  // the low corner
-        EXPECT_EQ(grid.cell(Vec3(1, 4, 3), level), first + r * r * r - 1);   // the high corner
+        EXPECT_EQ(grid.cell(Vec3(-1, 0, 2), level), first);                                   // the low corner
+        EXPECT_EQ(grid.cell(Vec3(1, 4, 3), level), first + r * r * r - 1);                    // the high corner
         EXPECT_EQ(grid.cell(Vec3(-50, 99, 2.5), level), grid.cell(Vec3(-1, 4, 2.5), level));  // outside: the nearest
         first += r * r * r;
     }
@@ -186,7 +199,10 @@ TEST(EarsLearn, RatiosAreTheCellsVarianceAndMomentOverCost) {
 TEST(EarsLearn, FirstHitFactorsAreTheModelsOptimumInOneEpoch) {
     const ears::Grid grid(Vec3(0, 0, 0), Vec3(1, 1, 1));
     const double N = 1000, v0 = 0.2, c0 = 2;  // optimum q 4.47 and 2.24: neither clamped
-    struct Cell { Vec3 p; double n, v, cost; };
+    struct Cell {
+        Vec3 p;
+        double n, v, cost;
+    };
     const std::vector<Cell> cells = {{Vec3(0.1, 0.1, 0.1), 0.6, 4.0, 2.0}, {Vec3(0.9, 0.8, 0.7), 0.3, 0.5, 1.0}};
     std::vector<ears::CellSums> sums(ears::Learning::sumCount());
     ears::Learning l(grid);
@@ -215,7 +231,8 @@ TEST(EarsLearn, FirstHitFactorsAreTheModelsOptimumInOneEpoch) {
         EXPECT_NEAR(q.back(), exact, 1e-5 * exact);
     }
     const auto product = [&](double q1, double q2) {
-        return (v0 + cells[0].n * cells[0].v / q1 + cells[1].n * cells[1].v / q2) * (c0 + cells[0].n * q1 * cells[0].cost + cells[1].n * q2 * cells[1].cost);
+        return (v0 + cells[0].n * cells[0].v / q1 + cells[1].n * cells[1].v / q2) *
+               (c0 + cells[0].n * q1 * cells[0].cost + cells[1].n * q2 * cells[1].cost);
     };
     const double best = product(q[0], q[1]);
     for (double a = 1; a <= ears::kMaxFactor; a += 0.01)
@@ -251,14 +268,16 @@ TEST(EarsSplitDirections, FollowTheEstimatorsDensity) {
                 for (std::uint32_t j = 0; j < n; ++j, ++calls) {
                     const std::uint64_t path = j == 0 ? 0 : SampleDimensions::splitPath(0, 1, j);
                     SampleStream s = firstHit ? streams.at(i).blockContinuation(j) : streams.at(i);
-                    s.setDimension(firstHit ? SampleDimensions::firstHitEstimator(0) : SampleDimensions::vertex(1, path) + SampleDimensions::kEstimator);
+                    s.setDimension(firstHit ? SampleDimensions::firstHitEstimator(0)
+                                            : SampleDimensions::vertex(1, path) + SampleDimensions::kEstimator);
                     out.clear();
                     est->sample(ctx, s, out);
                     for (const auto& d : out) dirs.push_back(d.wi);
                 }
             }
         }
-        const auto r = test::chiSquareSphere(dirs, [&](const Vec3& w) { return upper(w) / mass; }, opts);
+        const auto r = test::chiSquareSphere(
+            dirs, [&](const Vec3& w) { return upper(w) / mass; }, opts);
         EXPECT_TRUE(r.passed) << (firstHit ? "first hit: " : "further on: ") << r.describe();
         EXPECT_NEAR(static_cast<double>(dirs.size()) / calls, mass, 4 * std::sqrt(mass * (1 - mass) / calls));
     }
@@ -405,32 +424,36 @@ TEST(EarsRender, OnlyTheLastEpochGoesUnrecorded) {
 }
 
 // The closed furnace (radiance Le / (1 - a) everywhere inside) with EARS's factors at every vertex: the
-// mean of 8 repeats within Student's t at the 4-sigma tail, and the render did learn and split.
+// mean of 8 repeats within Student's t at the 4-sigma tail, and the render did learn and split. Under the
+// independent sampler (EARS's roulette as derived) and under sobol (its roulette floored at plain's).
 TEST(EarsRender, TheClosedFurnaceKeepsItsClosedForm) {
-    const double le = 1.0, albedo = 0.5;
-    const Scene scene = test::makeFurnaceSphere(le, albedo);
-    const Accel accel(scene);
-    const auto est = makeEstimator("phong");
-    const double exact = le / (1.0 - albedo) - le * std::pow(albedo, 65) / (1.0 - albedo);  // depth 64 truncation
-    std::vector<double> means;
-    for (int r = 0; r < 8; ++r) {
-        RenderSettings rs = earsSettings(8, 8, 64, mixSeed(77, r), "independent");
-        rs.trace.maxDepth = 64;
-        RenderState state(8, 8, 64);
-        renderSamples(scene, accel, *est, rs, state, 64);
-        ASSERT_TRUE(state.ears);
-        EXPECT_EQ(state.ears->epoch, 5);  // epochs [0,2) [2,4) ... [32,64): learned five times (not after the last)
-        // The last epoch, [32,64), has no epoch after it: its continuations are not recorded.
-        for (const ears::CellSums& c : state.ears->sums) ASSERT_TRUE(c.empty());
-        EXPECT_FALSE(state.ears->factors.empty());
-        EXPECT_EQ(state.badSamples, 0u);
-        const Image img = state.image();
-        double sum = 0;
-        for (const Color& c : img.pixels) sum += luminance(c);
-        means.push_back(sum / static_cast<double>(img.pixels.size()));
+    for (const char* sampler : {"independent", "sobol"}) {
+        SCOPED_TRACE(sampler);
+        const double le = 1.0, albedo = 0.5;
+        const Scene scene = test::makeFurnaceSphere(le, albedo);
+        const Accel accel(scene);
+        const auto est = makeEstimator("phong");
+        const double exact = le / (1.0 - albedo) - le * std::pow(albedo, 65) / (1.0 - albedo);  // depth 64 truncation
+        std::vector<double> means;
+        for (int r = 0; r < 8; ++r) {
+            RenderSettings rs = earsSettings(8, 8, 64, mixSeed(77, r), sampler);
+            rs.trace.maxDepth = 64;
+            RenderState state(8, 8, 64);
+            renderSamples(scene, accel, *est, rs, state, 64);
+            ASSERT_TRUE(state.ears);
+            EXPECT_EQ(state.ears->epoch, 5);  // epochs [0,2) [2,4) ... [32,64): learned five times (not after the last)
+            // The last epoch, [32,64), has no epoch after it: its continuations are not recorded.
+            for (const ears::CellSums& c : state.ears->sums) ASSERT_TRUE(c.empty());
+            EXPECT_FALSE(state.ears->factors.empty());
+            EXPECT_EQ(state.badSamples, 0u);
+            const Image img = state.image();
+            double sum = 0;
+            for (const Color& c : img.pixels) sum += luminance(c);
+            means.push_back(sum / static_cast<double>(img.pixels.size()));
+        }
+        const auto m = test::meanAndError(means);
+        EXPECT_LT(std::abs(m.mean - exact) / m.stdError, studentCritical(7)) << m.mean << " against " << exact;
     }
-    const auto m = test::meanAndError(means);
-    EXPECT_LT(std::abs(m.mean - exact) / m.stdError, studentCritical(7)) << m.mean << " against " << exact;
 }
 
 namespace {
@@ -474,8 +497,8 @@ TEST(EarsRender, MeanImageAgreesWithPhongOnEveryStudyScene) {
         const auto [mp, sp] = meanOf(scene, accel, SplittingMode::None);
         const auto [me, se] = meanOf(scene, accel, SplittingMode::Ears);
         const double z = (me - mp) / std::sqrt(sp * sp + se * se);
-        std::printf("%-28s phong %.5f +- %.5f  ears %.5f +- %.5f  z %+.2f  (catches %.1f%%)\n", std::filesystem::path(name).filename().c_str(),
-                    mp, sp, me, se, z, 400 * std::sqrt(sp * sp + se * se) / mp);
+        std::printf("%-28s phong %.5f +- %.5f  ears %.5f +- %.5f  z %+.2f  (catches %.1f%%)\n",
+                    std::filesystem::path(name).filename().c_str(), mp, sp, me, se, z, 400 * std::sqrt(sp * sp + se * se) / mp);
         EXPECT_LT(std::abs(z), 4.0) << name;
         if (name == "cornell") {
             const auto [mb, sb] = meanOf(scene, accel, SplittingMode::Ears, 1.10);

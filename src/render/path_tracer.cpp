@@ -273,25 +273,25 @@ double PathTracer::continuationFactor(std::size_t finest, const Color& throughpu
         // The first hit's factor is solved for its cell (splitting/ears.h learnFactors) and rounded to a
         // power of two (firstHitBlock); where no cell has one yet, two continuations, so that the next
         // epoch learns the within-vertex variance there.
-        const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.firstHit, finest);
-        return cell >= 0 ? ears::firstHitBlock(f.firstHit[static_cast<std::size_t>(cell)]) : ears::kUnknownFirstHitFactor;
+        // learnFactors gave every finest cell its nearest estimate (Factors): one lookup, no walk up the levels.
+        return !f.empty() && f.firstHit[finest] >= 0 ? ears::firstHitBlock(f.firstHit[finest]) : ears::kUnknownFirstHitFactor;
     }
-    const long cell = f.empty() ? -1 : ears::Factors::cellAt(f.momentRatio, finest);
     double q = 1;
-    if (cell >= 0) {
-        const auto c = static_cast<std::size_t>(cell);
-        q = ears::splittingFactor(luminance(throughput), f.varianceRatio[c], f.momentRatio[c], f.scale);
-        if (depth + 1 < settings_.rrDepth) q = std::max(q, 1.0);  // no roulette before the roulette depth (EARS's rrDepth)
+    if (!f.empty() && f.momentRatio[finest] >= 0) {
+        q = ears::splittingFactor(luminance(throughput), f.varianceRatio[finest], f.momentRatio[finest], f.scale);
+        if (depth + 1 < settings_.rrDepth)
+            q = std::max(q, 1.0);  // no roulette before the roulette depth (EARS's rrDepth)
+        else if (settings_.earsRouletteFloor)
+            q = ears::flooredRoulette(q, ears::throughputSurvival(maxComponent(throughput)));
     } else if (depth + 1 >= settings_.rrDepth) {
-        q = std::clamp(maxComponent(throughput), ears::kMinFactor, 0.95);
-        if (std::isnan(q)) q = ears::kMinFactor;
+        q = ears::throughputSurvival(maxComponent(throughput));
     }
     return q;
 }
 
 Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell,
-                                     bool shadowed, double q,
-                                     int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const {
+                                     bool shadowed, double q, int depth, std::uint64_t path, const Color& throughput,
+                                     PathContext& pc) const {
     SampleStream& samples = pc.samples;
     // E[n] = q: floor(q), one more with probability q - floor(q). The first hit's q is a power of two already
     // (continuationFactor: firstHitBlock), so n = q there and its continuations are an aligned block of its
@@ -355,8 +355,8 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
 // Next-event estimation, the same for every emitter: one chosen in proportion to its power, a direction
 // towards it, the shadow ray, and f cos / p weighted against the estimator by the power heuristic (a
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
-Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
-                              TraceStats& stats, bool shadowed, double misScale) const {
+Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
+                              bool shadowed, double misScale) const {
     EmitterSample s;
     if (!emitters_.sample(p, u, s) || dot(s.wi, ng) <= 0) return Color(0.0);
     const Vec3 wiLocal = frame.toLocal(s.wi);

@@ -41,6 +41,9 @@ struct TraceSettings {
     /// How many continuations a vertex gets: one (Russian roulette by throughput, firstHitSplit at the
     /// first hit) or EARS's learned factor at every vertex (splitting/ears.h; replaces both).
     SplittingMode splitting = SplittingMode::None;
+    /// --splitting ears: a learned roulette factor no harsher than plain roulette's (ears::flooredRoulette).
+    /// The renderer sets it when the render's sampler is not one of independent values.
+    bool earsRouletteFloor = false;
 };
 
 struct TraceStats {

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include "io/memory.h"
+#include "sampling/sampler_registry.h"
 #include "util/cpu_time.h"
 
 #include <fmt/format.h>
@@ -47,6 +48,14 @@ void cameraRay(const Camera& cam, int width, int height, double px, double py, V
 
 namespace {
 
+/// The tracer's settings for a render: its own, with --splitting ears's roulette floored at plain
+/// roulette's (TraceSettings::earsRouletteFloor) when the sampler is a low-discrepancy one.
+TraceSettings traceSettings(const Estimator& estimator, const RenderSettings& settings) {
+    TraceSettings trace = settings.trace;
+    trace.earsRouletteFloor = !isIndependentSampler(effectiveSampler(estimator, settings.sampler));
+    return trace;
+}
+
 /// Runs renderTile over every tile (or those settings.tiles gives out) on settings.threads threads.
 template <class Fn>
 void forEachTile(const RenderSettings& settings, Fn&& renderTile) {
@@ -80,7 +89,7 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
     // The last epoch of the render (the one that reaches its spp) has no epoch after it to learn from its
     // records: it traces without them (the same in every run of this spp, resumed or not).
     const bool records = learns && !ears::lastEpoch(state.ears->epoch, state.sppBound);
-    const PathTracer tracer(scene, accel, estimator, settings.trace, learns ? &*state.ears : nullptr, records);
+    const PathTracer tracer(scene, accel, estimator, traceSettings(estimator, settings), learns ? &*state.ears : nullptr, records);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
     const CameraRays cameraRays(scene.camera, settings.width, settings.height);
@@ -153,8 +162,9 @@ void probeLearning(const Scene& scene, const Accel& accel, const Estimator& esti
     if (learning.probed || learning.epoch > 0 || state.samplesReached() > 0) return;
     const double cpuStart = processCpuSeconds();
     const auto start = std::chrono::steady_clock::now();
-    const PathTracer tracer(scene, accel, estimator, settings.trace, &learning, true);
-    const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), ears::kProbeSamples, mixSeed(settings.seed, ears::kProbeSeed));
+    const PathTracer tracer(scene, accel, estimator, traceSettings(estimator, settings), &learning, true);
+    const auto sampler =
+        makeSampler(effectiveSampler(estimator, settings.sampler), ears::kProbeSamples, mixSeed(settings.seed, ears::kProbeSeed));
     const CameraRays cameraRays(scene.camera, settings.width, settings.height);
     const int tiles = tileCount(settings.width, settings.height);
     // Per tile: its probed pixels' summed variance (added in tile order afterwards: the same double at any

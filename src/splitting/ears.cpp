@@ -28,7 +28,7 @@ namespace {
 __extension__ typedef unsigned __int128 Wide;
 
 constexpr double kFixedPoint = 1099511627776.0;  // 2^40: the unit of CellSums' values is 2^-40
-constexpr double kMaxValue = 8388608.0;  // 2^23: value 2^40 < 2^63
+constexpr double kMaxValue = 8388608.0;          // 2^23: value 2^40 < 2^63
 
 Wide wide(const std::uint64_t (&w)[2]) { return (static_cast<Wide>(w[1]) << 64) | w[0]; }
 void store(std::uint64_t (&w)[2], Wide v) {
@@ -44,8 +44,13 @@ double firstHitBlock(double q) {
     return std::min(kMaxFactor, std::exp2(std::round(std::log2(q))));
 }
 
+double throughputSurvival(double maxThroughput) {
+    if (std::isnan(maxThroughput)) return kMinFactor;
+    return std::clamp(maxThroughput, kMinFactor, 0.95);
+}
+
 double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale) {
-    const double split = throughput * varianceRatio * scale;  // q_split = T sqrt(v / C_x) sqrt(C / V)
+    const double split = throughput * varianceRatio * scale;   // q_split = T sqrt(v / C_x) sqrt(C / V)
     const double roulette = throughput * momentRatio * scale;  // q_rr = T sqrt(M / C_x) sqrt(C / V)
     if (std::isnan(split) || std::isnan(roulette)) return kMinFactor;
     double q = 1;
@@ -210,8 +215,8 @@ Factors learnFactors(const std::vector<CellSums>& sums, const EpochMeasure& epoc
     f.scale = model.empty() ? std::sqrt(C / V) : solveScale(v0, c0, model);
     for (std::size_t c = 0; c < cells; ++c)
         if (firstHitVariance[c] >= 0)
-            f.firstHit[c] = static_cast<float>(std::clamp(
-                f.scale * std::sqrt(firstHitVariance[c] / std::max(1.0, firstHit[c].meanCost())), 1.0, kMaxFactor));
+            f.firstHit[c] = static_cast<float>(
+                std::clamp(f.scale * std::sqrt(firstHitVariance[c] / std::max(1.0, firstHit[c].meanCost())), 1.0, kMaxFactor));
     // A finest cell without an estimate of its own takes its nearest coarser cell's (what cellAt would
     // find), so that a vertex looks up one cell.
     for (std::size_t c = finest; c < cells; ++c)

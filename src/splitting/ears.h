@@ -32,8 +32,8 @@ void checkSplittingName(const std::string& name);
 
 namespace ears {
 
-inline constexpr double kMinFactor = 0.05;       ///< the least factor: a continuation survives at least 1 in 20
-inline constexpr double kMaxFactor = 8;          ///< the most continuations a vertex gets
+inline constexpr double kMinFactor = 0.05;        ///< the least factor: a continuation survives at least 1 in 20
+inline constexpr double kMaxFactor = 8;           ///< the most continuations a vertex gets
 inline constexpr std::uint64_t kMinRecords = 32;  ///< a cell's estimate is used from this many continuations on
 /// The first hit's factor where no cell has an estimate yet (all of epoch 0): pairs of continuations, for
 /// the next epoch to learn the within-vertex variance from. (1.5, pairs at every other vertex, was
@@ -51,6 +51,20 @@ inline constexpr double kUnknownFirstHitFactor = 2;
 /// is below 1, else 1 (the two disagree). `varianceRatio` is sqrt(v / C_x), `momentRatio` sqrt(M / C_x),
 /// `scale` sqrt(C / V). Clamped to [kMinFactor, kMaxFactor]; NaN in, kMinFactor out.
 double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale);
+
+/// Plain Russian roulette's survival probability at a vertex whose throughput's largest component is
+/// `maxThroughput`: that, clamped to [kMinFactor, 0.95] (NaN: kMinFactor). The factor of a deeper vertex
+/// with no learned cell, and the floor of a learned roulette factor under a low-discrepancy sampler.
+double throughputSurvival(double maxThroughput);
+
+/// A learned factor q with its roulette floored at plain roulette's survival `plain` (q < 1: the larger of
+/// the two; splitting, q >= 1, unchanged). Under a low-discrepancy sampler the render's error is far below
+/// the per-sample variance V that splittingFactor's scale sqrt(C / V) assumes (Owen-scrambled Sobol' on the
+/// diffuse Cornell box at 64 spp: 1/15 of the independent sampler's MSE), while the variance that
+/// roulette adds is not stratified away: the formula roulettes too hard there (docs/estimators.md
+/// "Roulette under a low-discrepancy sampler"). The render applies it when its sampler is not
+/// independent (TraceSettings::earsRouletteFloor).
+inline double flooredRoulette(double q, double plain) { return q < 1 ? std::max(q, plain) : q; }
 
 /// The first hit's number of continuations for the model's optimum q: the power of two nearest to q on a
 /// log scale (2^round(log2 q)), in [1, kMaxFactor]: the same at every vertex of a cell, and a whole block
@@ -132,7 +146,9 @@ inline constexpr int kSections = 3;
 
 /// What a render learned for an epoch: per cell sqrt(v / C_x) and sqrt(M / C_x) of the deeper vertices
 /// and the first hit's factor q (negative: too few records to say), and the scale sqrt(C / V) at the
-/// optimum.
+/// optimum. Every finest cell holds its nearest estimate (its own, else its nearest coarser cell's:
+/// learnFactors fills them in), so a finest cell's entry is what cellAt finds; the path tracer reads it
+/// directly.
 struct Factors {
     std::vector<float> varianceRatio, momentRatio, firstHit;
     double scale = 0;
