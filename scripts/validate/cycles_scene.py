@@ -24,15 +24,8 @@ import bpy
 from mathutils import Matrix, Vector
 
 
-def main():
-    args = sys.argv[sys.argv.index("--") + 1:]
-    desc_path, out_path = args[0], args[1]
-    width, height, samples, seed, threads = (int(a) for a in args[2:7])
-    bounces = int(args[7]) if len(args) > 7 else 64
-    light_sampling = not (len(args) > 8 and args[8] == "no-light-sampling")
-    d = json.load(open(desc_path))
-    print(f"cycles_scene: Blender {bpy.app.version_string}, scene {d['name']}, {len(d['triangles'])} triangles")
-
+def build(d, light_sampling=True):
+    """Builds the exported scene `d` (export_scene.py's JSON) in an empty Blender scene and returns it."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
 
@@ -107,7 +100,11 @@ def main():
     camera.matrix_world = Matrix.Translation(position) @ rotation.to_4x4()
     scene.collection.objects.link(camera)
     scene.camera = camera
+    return scene
 
+
+def configure(scene, width, height, samples, seed, threads, bounces=64):
+    """Cycles settings for a render that matches symphong's pixel model (see the module's text)."""
     r = scene.render
     r.engine = "CYCLES"
     r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
@@ -142,9 +139,22 @@ def main():
     image.color_depth = "32"
     image.exr_codec = "ZIP"
     r.use_file_extension = False
-    r.filepath = out_path
+
+
+def main():
+    args = sys.argv[sys.argv.index("--") + 1:]
+    desc_path, out_path = args[0], args[1]
+    width, height, samples, seed, threads = (int(a) for a in args[2:7])
+    bounces = int(args[7]) if len(args) > 7 else 64
+    light_sampling = not (len(args) > 8 and args[8] == "no-light-sampling")
+    d = json.load(open(desc_path))
+    print(f"cycles_scene: Blender {bpy.app.version_string}, scene {d['name']}, {len(d['triangles'])} triangles")
+    scene = build(d, light_sampling)
+    configure(scene, width, height, samples, seed, threads, bounces)
+    scene.render.filepath = out_path
     bpy.ops.render.render(write_still=True)
     print(f"cycles_scene: wrote {out_path}")
 
 
-main()
+if __name__ == "__main__":
+    main()
