@@ -56,6 +56,21 @@ TraceSettings traceSettings(const Estimator& estimator, const RenderSettings& se
     return trace;
 }
 
+/// Camera sample i of the pixel at (x, y) (`pixel` its index): its stream, its jitter inside the pixel, its
+/// camera ray and the radiance along it. A value that is not finite or has a negative channel is counted in
+/// stats.badSamples and comes back black (never written).
+Color traceCameraSample(const PathTracer& tracer, const Sampler& sampler, const CameraRays& cameraRays, int x, int y, std::size_t pixel,
+                        std::uint32_t i, TraceStats& stats, PathScratch& scratch) {
+    SampleStream samples(sampler, pixel, i, SampleDimensions::kPixel);
+    const Point2 jitter = samples.get2D();
+    Vec3 o, d;
+    cameraRays(x + jitter.u, y + jitter.v, o, d);
+    const Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
+    if (isFinite(L) && minComponent(L) >= 0) return L;
+    ++stats.badSamples;
+    return Color(0.0);
+}
+
 /// Runs renderTile over every tile (or those settings.tiles gives out) on settings.threads threads.
 template <class Fn>
 void forEachTile(const RenderSettings& settings, Fn&& renderTile) {
@@ -113,15 +128,7 @@ void renderSegment(const Scene& scene, const Accel& accel, const Estimator& esti
             Color sum = state.sum[pixel], sumSq = state.sumSq[pixel];
             double sumYSq = state.sumLuminanceSq[pixel];
             for (std::uint32_t i = from; i < upTo; ++i) {
-                SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
-                const Point2 jitter = samples.get2D();
-                Vec3 o, d;
-                cameraRays(x + jitter.u, y + jitter.v, o, d);
-                Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
-                if (!isFinite(L) || minComponent(L) < 0) {
-                    ++stats.badSamples;
-                    L = Color(0.0);
-                }
+                const Color L = traceCameraSample(tracer, *sampler, cameraRays, x, y, pixel, i, stats, scratch);
                 sum += L;
                 sumSq += L * L;
                 sumYSq += luminance(L) * luminance(L);
@@ -184,12 +191,8 @@ void probeLearning(const Scene& scene, const Accel& accel, const Estimator& esti
             if (x % 2 != 0 || y % 2 != 0) return;
             double sum = 0, squares = 0;
             for (std::uint32_t i = 0; i < ears::kProbeSamples; ++i) {
-                SampleStream samples(*sampler, pixel, i, SampleDimensions::kPixel);
-                const Point2 jitter = samples.get2D();
-                Vec3 o, d;
-                cameraRays(x + jitter.u, y + jitter.v, o, d);
-                const Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
-                const double value = isFinite(L) && minComponent(L) >= 0 ? luminance(L) : 0.0;
+                // Its bad samples count as black and stay out of the render's count (stats are the probe's own).
+                const double value = luminance(traceCameraSample(tracer, *sampler, cameraRays, x, y, pixel, i, stats, scratch));
                 sum += value, squares += value * value;
             }
             const double n = ears::kProbeSamples;
