@@ -9,6 +9,7 @@ the MSEs are equal-time MSEs; the efficiency ratio also corrects for what is lef
     python3 scripts/validate/efficiency.py                 # 256x256, 64 spp, 8 seeds, two scenes; ~10 minutes on 2 cores
     python3 scripts/validate/efficiency.py --quick         # 64x64, 16 spp, 4 seeds: checks the pipeline
     python3 scripts/validate/efficiency.py --write-doc     # also writes the table into docs/performance.md
+    python3 scripts/validate/efficiency.py --no-cycles --scenes cornell --size 512   # symphong's variants alone
 
 Runs with Debian's python3 and NumPy; builds symphong (release preset) if needed; Blender from Debian
 (`apt-get install blender`). Renders and times.json files go to out/efficiency/<scene>/.
@@ -39,6 +40,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCENES = {
     "cornell-diffuse": "scenes/cornell-diffuse.json",
     "cornell-classic": "scenes/cornell-classic.json",
+    "cornell": "cornell",  # the default scene (a glossy block: symphong only, with --no-cycles)
 }
 BEGIN, END = "<!-- efficiency-vs-cycles:begin -->", "<!-- efficiency-vs-cycles:end -->"
 
@@ -119,15 +121,17 @@ def cycles_runs(d, size, samples, seeds, threads, mode, tag):
 def measure(key, spec, args, out):
     d = out / key
     d.mkdir(parents=True, exist_ok=True)
-    env_py = ROOT / "build/release/python"
-    subprocess.run([sys.executable, str(ROOT / "scripts/validate/export_scene.py"), spec, str(d / "scene.json")], check=True,
-                   env={**os.environ, "PYTHONPATH": str(env_py)})
     seeds = list(range(1, args.seeds + 1))
     rows = []
     img, cpu, wall = symphong_runs(spec, d, args.size, args.spp, seeds, args.threads, [], "phong")
     rows.append(summarise("symphong `phong` (default)", img, cpu, wall, {"spp": args.spp}))
     img, cpu, wall = symphong_runs(spec, d, args.size, args.spp, seeds, args.threads, ["--splitting", "ears"], "ears")
     rows.append(summarise("symphong `phong --splitting ears`", img, cpu, wall, {"spp": args.spp}))
+    if args.no_cycles:
+        return rows
+    env_py = ROOT / "build/release/python"
+    subprocess.run([sys.executable, str(ROOT / "scripts/validate/export_scene.py"), spec, str(d / "scene.json")], check=True,
+                   env={**os.environ, "PYTHONPATH": str(env_py)})
     # Calibration: one Cycles render at symphong's sample count (a seed the measured runs do not use) gives its
     # CPU time per render; the measured runs take the sample count that matches symphong's default render.
     _, ccpu, _, _ = cycles_runs(d, args.size, args.spp, [1000], args.threads, "fixed", "calibrate")
@@ -141,9 +145,10 @@ def measure(key, spec, args, out):
 
 
 def table(key, rows):
-    base = next(r for r in rows if r["name"].startswith("Cycles, adaptive sampling off"))
+    base = next((r for r in rows if r["name"].startswith("Cycles, adaptive sampling off")), rows[0])
+    against = "Cycles (adaptive off)" if base["name"].startswith("Cycles") else "symphong `phong`"
     lines = [f"**{key}** (`{SCENES[key]}`):", "",
-             "| renderer | spp | CPU s / render | wall s | MSE | efficiency 1/(MSE x CPU s) | vs Cycles (adaptive off), +-2 SE |",
+             f"| renderer | spp | CPU s / render | wall s | MSE | efficiency 1/(MSE x CPU s) | vs {against}, +-2 SE |",
              "|---|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         ratio = r["efficiency"] / base["efficiency"]
@@ -163,6 +168,7 @@ def main():
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--quick", action="store_true", help="64x64, 16 spp, 4 seeds")
     ap.add_argument("--write-doc", action="store_true", help="write the table into docs/performance.md")
+    ap.add_argument("--no-cycles", action="store_true", help="symphong's variants alone (no Blender needed; any scene of --scenes)")
     ap.add_argument("--out", default=str(ROOT / "out/efficiency"))
     args = ap.parse_args()
     if args.quick:
@@ -173,7 +179,11 @@ def main():
     for k in keys:
         if k not in SCENES:
             ap.error(f"--scenes: unknown scene '{k}' (known: {', '.join(SCENES)})")
-    if subprocess.run(["which", "blender"], stdout=subprocess.DEVNULL).returncode != 0:
+    if args.write_doc and args.no_cycles:
+        ap.error("--write-doc writes the comparison with Cycles: not with --no-cycles")
+    if not args.no_cycles and "cornell" in keys:
+        ap.error("--scenes cornell has a glossy block, which Cycles cannot match: use it with --no-cycles")
+    if not args.no_cycles and subprocess.run(["which", "blender"], stdout=subprocess.DEVNULL).returncode != 0:
         sys.exit("efficiency: Blender is not installed (apt-get install blender)")
     if not (ROOT / "build/release/symphong").exists():
         subprocess.run(["cmake", "--preset", "release"], cwd=ROOT, check=True)
@@ -184,11 +194,13 @@ def main():
     results = {k: measure(k, SCENES[k], args, out) for k in keys}
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), platform.machine())
-    settings = results[keys[0]][2]["settings"]
     argv = " ".join(sys.argv[1:])
+    blender = "no Blender"
+    if not args.no_cycles:
+        settings = results[keys[0]][2]["settings"]
+        blender = f"Blender {settings['blender']} (Cycles sampling pattern {settings['sampling_pattern']})"
     head = [f"Command: `python3 scripts/validate/efficiency.py{(' ' + argv) if argv else ''}`; "
-            f"{time.strftime('%Y-%m-%d')}, symphong {commit}, Blender {settings['blender']} (Cycles sampling pattern "
-            f"{settings['sampling_pattern']}), {os.cpu_count()} cores ({cpu}), {args.threads} threads each, "
+            f"{time.strftime('%Y-%m-%d')}, symphong {commit}, {blender}, {os.cpu_count()} cores ({cpu}), {args.threads} threads each, "
             f"{args.size}x{args.size}, {args.seeds} seeds a renderer, load average {os.getloadavg()[0]:.1f} at the end.", ""]
     body = []
     for k in keys:
