@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <random>
 
 using namespace symphong;
@@ -453,6 +454,35 @@ TEST(EarsRender, TheClosedFurnaceKeepsItsClosedForm) {
         }
         const auto m = test::meanAndError(means);
         EXPECT_LT(std::abs(m.mean - exact) / m.stdError, studentCritical(7)) << m.mean << " against " << exact;
+    }
+}
+
+// The renderer floors EARS's roulette (ears::flooredRoulette) under a low-discrepancy sampler and not under
+// the independent one: a render left to decide equals, bit for bit, the one with the floor forced the way
+// its sampler says; and the floor does act on the diffuse box (forced off under sobol, fewer paths live:
+// fewer rays for the same camera samples), so that a renderer that stopped setting it would be caught.
+TEST(EarsRender, TheRouletteFloorFollowsTheSampler) {
+    const Scene scene = loadScene(SYMPHONG_SOURCE_DIR "/scenes/cornell-diffuse.json");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    const auto run = [&](const std::string& sampler, std::optional<bool> floor) {
+        RenderSettings rs = earsSettings(32, 32, 32, 5, sampler);
+        rs.trace.maxDepth = 64;
+        rs.earsRouletteFloor = floor;
+        return render(scene, accel, *est, rs);
+    };
+    for (const std::string sampler : {"sobol", "stratified", "independent"}) {
+        SCOPED_TRACE(sampler);
+        const bool floored = sampler != "independent";
+        const RenderResult decided = run(sampler, std::nullopt), same = run(sampler, floored), other = run(sampler, !floored);
+        EXPECT_TRUE(sameBits(decided.image, same.image));
+        EXPECT_EQ(decided.stats.rays, same.stats.rays);
+        const RenderResult& on = floored ? same : other;
+        const RenderResult& off = floored ? other : same;
+        EXPECT_FALSE(sameBits(on.image, off.image));
+        std::printf("%s: %llu rays with the floor, %llu without\n", sampler.c_str(), (unsigned long long)on.stats.rays, (unsigned long long)off.stats.rays);
+        EXPECT_GT(static_cast<double>(on.stats.rays), 1.02 * static_cast<double>(off.stats.rays))
+            << on.stats.rays << " rays with the floor, " << off.stats.rays << " without";
     }
 }
 

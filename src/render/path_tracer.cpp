@@ -121,6 +121,11 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const PhongMaterial& mat =
         textured ? materialAt(scene_, baseMaterial, uv, pc.scratch.materials[static_cast<std::size_t>(depth)]) : baseMaterial;
     const Vec3 p = o + d * hit.t;
+    // --splitting ears: the vertex's finest cell of the learned grid, found once for its factor and its
+    // continuations' records; the factor's entries are fetched into the cache now, while the shading
+    // below hides the wait (the tables are scattered over hundreds of kilobytes: a miss each vertex).
+    const std::size_t cell = learning_ ? learning_->grid.cell(p, ears::Grid::kLevels - 1) : 0;
+    if (learning_) prefetchFactor(cell, depth);
     Vec3 ng = geometricNormals_[hit.prim];
     const bool frontFace = dot(ng, d) < 0;
 
@@ -142,8 +147,6 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     SampleStream& samples = pc.samples;
     const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
     // --splitting ears decides the vertex's continuations before light sampling, whose MIS weight needs q.
-    // Its finest cell of the learned grid, found once for the factor and the continuations' records.
-    const std::size_t cell = learning_ ? learning_->grid.cell(p, ears::Grid::kLevels - 1) : 0;
     const double q = learning_ ? continuationFactor(cell, throughput, depth) : 0.0;
     if (lightSampling_) {
         samples.setDimension(vertexDim + SampleDimensions::kLight);
@@ -264,6 +267,17 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
             dirs[i].weight /= static_cast<double>(k);
             dirs[i].misPdf *= static_cast<double>(k);
         }
+    }
+}
+
+void PathTracer::prefetchFactor(std::size_t finest, int depth) const {
+    const ears::Factors& f = learning_->factors;
+    if (f.empty()) return;
+    if (depth == 0) {
+        __builtin_prefetch(&f.firstHit[finest]);
+    } else {
+        __builtin_prefetch(&f.momentRatio[finest]);
+        __builtin_prefetch(&f.varianceRatio[finest]);
     }
 }
 

@@ -150,6 +150,9 @@ private:
     /// before the roulette depth; where no cell has an estimate yet, 1 before the roulette depth and the
     /// throughput's largest component, at most 0.95, from it on).
     double continuationFactor(std::size_t finest, const Color& throughput, int depth) const;
+    /// --splitting ears: fetches into the cache the entries of finest cell `finest` that continuationFactor
+    /// will read at this depth (a hint: no effect on any value).
+    void prefetchFactor(std::size_t finest, int depth) const;
     /// --splitting ears: floor(q + u) = n continuations (at the first hit a power of two), averaged (weight 1/n; under roulette, q < 1,
     /// 1/q), their directions' MIS densities times q; each is reported with its value and rays in
     /// scratch.splitRecords (in cell `cell`, the vertex's finest) unless this is the render's last epoch. Continuation j >= 1 starts a

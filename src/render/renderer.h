@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace symphong {
@@ -63,6 +64,9 @@ struct RenderSettings {
     std::string sampler = std::string(kDefaultSampler);  ///< unless the estimator requires its own
     int threads = 0;                                     ///< 0: all hardware threads
     TraceSettings trace;
+    /// --splitting ears's roulette floor (TraceSettings::earsRouletteFloor) forced on or off (tests);
+    /// unset, the renderer decides: on unless the render's sampler is one of independent values.
+    std::optional<bool> earsRouletteFloor;
     /// When set and it becomes true, remaining tiles are skipped and the result is marked cancelled.
     const std::atomic<bool>* cancel = nullptr;
     /// Called on the worker thread after each finished tile (cancelled tiles are not finished); tests
