@@ -180,7 +180,7 @@ TEST(EarsGrid, EveryLevelCoversTheBoxAndTheFinestKnownCellIsChosen) {
 }
 
 TEST(EarsLearn, RatiosAreTheCellsVarianceAndMomentOverCost) {
-    std::vector<ears::CellSums> sums(ears::Learning::sumCount());
+    ears::SumTable sums(ears::Learning::sumCount());
     for (int i = 0; i < 40; ++i) sums[0].add(i % 2 ? 3.0 : 1.0, 4);  // mean 2, M = 5, v = 1 x 40/39, cost 4
     for (int i = 0; i < 5; ++i) sums[1].add(1.0, 1);                 // too few to say
     const ears::Factors f = ears::learnFactors(sums, {6.0, 1.5, 1000});
@@ -205,7 +205,7 @@ TEST(EarsLearn, FirstHitFactorsAreTheModelsOptimumInOneEpoch) {
         double n, v, cost;
     };
     const std::vector<Cell> cells = {{Vec3(0.1, 0.1, 0.1), 0.6, 4.0, 2.0}, {Vec3(0.9, 0.8, 0.7), 0.3, 0.5, 1.0}};
-    std::vector<ears::CellSums> sums(ears::Learning::sumCount());
+    ears::SumTable sums(ears::Learning::sumCount());
     ears::Learning l(grid);
     double V = v0, C = c0;
     for (const Cell& c : cells) {
@@ -314,7 +314,7 @@ TEST(EarsLearn, AfterTheProbeFirstHitFactorsOnlyFallThenHold) {
     addFirstHits(l, a, 600, 4.0, 2);
     addFirstHits(l, b, 300, 0.5, 1);
     l.add({static_cast<std::uint32_t>(grid.cell(a, ears::Grid::kLevels - 1)), 1.0, 3, ears::Section::Deeper});
-    std::vector<ears::CellSums> probeSums = l.sums;
+    ears::SumTable probeSums = l.sums;
     ears::propagateToCoarserCells(probeSums);
     const ears::Factors expected = ears::learnFactors(probeSums, {5.0, 0.4, 1000});
     l.learnFromProbe(0.4, 5000, 1000);
@@ -331,7 +331,7 @@ TEST(EarsLearn, AfterTheProbeFirstHitFactorsOnlyFallThenHold) {
     // Epoch 0: a's continuations vary less (its own factor falls), b's more (its own would rise).
     addFirstHits(l, a, 600, 0.05, 2);
     addFirstHits(l, b, 300, 16.0, 1);
-    std::vector<ears::CellSums> epochSums = l.sums;
+    ears::SumTable epochSums = l.sums;
     ears::propagateToCoarserCells(epochSums);
     const ears::Factors epoch0 = ears::learnFactors(epochSums, {5.0, 0.4, 1000});
     ASSERT_LT(factorAt(epoch0, a), probeA);

@@ -232,13 +232,13 @@ void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
 /// --splitting ears: every rank's sums of the epoch's records added into rank 0's (exact integers: the
 /// same in any order, so the same as one process's).
 void gatherLearning(const MpiJob& job, RenderState& state) {
-    std::vector<ears::CellSums>& sums = state.ears->sums;
+    ears::SumTable& sums = state.ears->sums;
     const int bytes = static_cast<int>(sums.size() * sizeof(ears::CellSums));
     if (!job.root()) {
         MPI_Send(sums.data(), bytes, MPI_BYTE, 0, kTagLearning, MPI_COMM_WORLD);
         return;
     }
-    std::vector<ears::CellSums> other(sums.size());
+    ears::SumTable other(sums.size());
     for (int r = 1; r < job.size(); ++r) {
         MPI_Recv(other.data(), bytes, MPI_BYTE, r, kTagLearning, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         state.ears->add(other);

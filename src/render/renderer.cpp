@@ -233,7 +233,12 @@ bool endEpochIfDone(RenderState& state) {
     if (!state.ears || ears::lastEpoch(state.ears->epoch, state.sppBound) ||
         state.samplesReached() < ears::epochEnd(ears::epochStart(state.ears->epoch)))
         return false;
+    // Learning is part of the render's cost: its time counts (the study's CPU-time cost reads it).
+    const double cpuStart = processCpuSeconds();
+    const auto start = std::chrono::steady_clock::now();
     state.ears->advance(state.variancePerSample(), state.rays, state.samples);
+    state.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.cpuSeconds += processCpuSeconds() - cpuStart;
     return true;
 }
 

@@ -97,12 +97,6 @@ Grid Grid::fromBox(const Vec3& lo, const Vec3& hi) {
     return g;
 }
 
-std::size_t Grid::cellCount() {
-    std::size_t n = 0;
-    for (int r : kResolution) n += static_cast<std::size_t>(r) * r * r;
-    return n;
-}
-
 std::size_t Grid::ancestor(std::size_t finest, int level) {
     const auto fine = static_cast<std::size_t>(kResolution[kLevels - 1]);
     const std::size_t i = finest - firstCell(kLevels - 1), ix = i % fine, iy = i / fine % fine, iz = i / (fine * fine);
@@ -162,7 +156,7 @@ double solveScale(double v0, double c0, const std::vector<FirstHitCell>& cells) 
 
 }  // namespace
 
-Factors learnFactors(const std::vector<CellSums>& sums, const EpochMeasure& epoch) {
+Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) {
     Factors f;
     const double V = epoch.variancePerSample, C = epoch.costPerSample, N = epoch.cameraSamples;
     if (!(V > 0) || !(C > 0) || !(N > 0) || !std::isfinite(V)) return f;
@@ -228,7 +222,7 @@ Factors learnFactors(const std::vector<CellSums>& sums, const EpochMeasure& epoc
     return f;
 }
 
-void propagateToCoarserCells(std::vector<CellSums>& sums) {
+void propagateToCoarserCells(SumTable& sums) {
     const std::size_t cells = Grid::cellCount(), finest = Grid::firstCell(Grid::kLevels - 1);
     for (std::size_t base = 0; base + cells <= sums.size(); base += cells)
         for (std::size_t c = finest; c < cells; ++c)

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "math/vec3.h"
+#include "util/large_buffer.h"
 
 #include <algorithm>
 #include <array>
@@ -91,6 +92,10 @@ struct CellSums {
     double meanCost() const;      ///< mean rays (0 when empty)
 };
 
+/// An epoch's sums: kSections x Grid::cellCount() cells (5.4 MB), on huge pages where the system offers them
+/// (util/large_buffer.h: first touched by every render that learns).
+using SumTable = LargeBufferVector<CellSums>;
+
 /// The regions: a grid over a box at resolutions 4, 8, 16 and 32 cells a side; a point lies in one cell
 /// of each level. A vertex uses the finest of its cells whose estimate rests on kMinRecords continuations.
 class Grid {
@@ -105,7 +110,7 @@ public:
     static Grid fromBox(const Vec3& lo, const Vec3& hi);
 
     /// Cells of every level together (37,440).
-    static std::size_t cellCount();
+    static constexpr std::size_t cellCount() { return firstCell(kLevels); }
     /// The index of `p`'s cell at `level` (points outside the box: its nearest cell). Inline: once per
     /// path vertex.
     std::size_t cell(const Vec3& p, int level) const {
@@ -178,11 +183,11 @@ struct EpochMeasure {
 /// q_c = lambda sqrt(v_c / C_c) clamped to [1, kMaxFactor] with lambda^2 = C(q) / V(q) (found by
 /// bisection); lambda is the scale (a vertex takes firstHitBlock(q_c) continuations). No factors at all
 /// when V is not positive.
-Factors learnFactors(const std::vector<CellSums>& sums, const EpochMeasure& epoch);
+Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch);
 
 /// Sums of the finest cells (where Learning::add puts records) added into every coarser cell that holds
 /// them, section by section (sums: whole sections of Grid::cellCount() cells).
-void propagateToCoarserCells(std::vector<CellSums>& sums);
+void propagateToCoarserCells(SumTable& sums);
 
 /// A model of an image for the fixed point: per camera sample, `visits` vertices of this region with
 /// throughput `throughput`, whose continuations have variance `variance` and cost `cost` (and mean 0, so

@@ -1,7 +1,6 @@
 #include "splitting/learning.h"
 
 #include <algorithm>
-#include <array>
 #include <bit>
 
 namespace symphong::ears {
@@ -17,26 +16,26 @@ std::uint32_t epochEnd(std::uint32_t reached) {
 std::uint32_t epochStart(int epoch) { return epoch == 0 ? 0u : epoch >= 32 ? 0xffffffffu : (1u << epoch); }
 
 void Learning::add(const Record& r) {
-    CellSums* section = sums.data() + Grid::cellCount() * static_cast<std::size_t>(r.section);
-    section[r.cell].add(r.value, r.rays);  // the coarser cells at the epoch's end
+    sums[r.slot].add(r.value, r.rays);  // the coarser cells at the epoch's end
 }
 
 void Learning::add(const std::vector<Record>& records) {
     constexpr std::size_t kAhead = 16;
-    const auto cellOf = [&](const Record& r) {
-        return Grid::cellCount() * static_cast<std::size_t>(r.section) + r.cell;
+    // A cell's 48 bytes may span two cache lines: both fetched.
+    const auto fetch = [&](const Record& r) {
+        const char* cell = reinterpret_cast<const char*>(&sums[r.slot]);
+        __builtin_prefetch(cell, 1);
+        __builtin_prefetch(cell + sizeof(CellSums) - 1, 1);
     };
-    std::array<std::size_t, kAhead> ring{};
     const std::size_t n = records.size();
-    for (std::size_t i = 0; i < std::min(n, kAhead); ++i) __builtin_prefetch(&sums[ring[i] = cellOf(records[i])], 1);
+    for (std::size_t i = 0; i < std::min(n, kAhead); ++i) fetch(records[i]);
     for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t c = ring[i % kAhead];
-        if (i + kAhead < n) __builtin_prefetch(&sums[ring[i % kAhead] = cellOf(records[i + kAhead])], 1);
-        sums[c].add(records[i].value, records[i].rays);
+        if (i + kAhead < n) fetch(records[i + kAhead]);
+        sums[records[i].slot].add(records[i].value, records[i].rays);
     }
 }
 
-void Learning::add(const std::vector<CellSums>& other) {
+void Learning::add(const SumTable& other) {
     for (std::size_t c = 0; c < sums.size() && c < other.size(); ++c)
         if (!other[c].empty()) sums[c].add(other[c]);
 }

@@ -10,22 +10,32 @@
 
 #include "splitting/ears.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 namespace symphong::ears {
 
 /// One continuation as the path tracer reports it: its vertex's finest cell (Grid::cell at the finest
-/// level, found once for the vertex's factor), what it brought back (the
-/// luminance of its estimate, before the vertex's 1/q) and the rays it took; or, in the FirstHitVertex
-/// section, one first-hit vertex: its continuations' sample variance and rays = 1 when it had two or
-/// more continuations (else 0 and 0).
+/// level, found once for the vertex's factor), what it brought back (the luminance of its estimate,
+/// before the vertex's 1/q) and the rays it took; or, in the FirstHitVertex section, one first-hit vertex:
+/// its continuations' sample variance and rays = 1 when it had two or more continuations (else 0 and 0).
+/// 16 bytes (a render makes one per continuation): the cell and section as one index into Learning::sums,
+/// the rays saturated at 2^32 - 1.
 struct Record {
-    std::uint32_t cell = 0;
     double value = 0;
-    std::uint64_t rays = 0;
-    Section section = Section::Deeper;
+    std::uint32_t rays = 0;
+    std::uint32_t slot = 0;  ///< section x Grid::cellCount() + cell: the record's entry of Learning::sums
+
+    Record() = default;
+    Record(std::uint32_t cell, double value, std::uint64_t rays, Section section)
+        : value(value),
+          rays(static_cast<std::uint32_t>(std::min<std::uint64_t>(rays, 0xffffffffu))),
+          slot(static_cast<std::uint32_t>(Grid::cellCount() * static_cast<std::size_t>(section) + cell)) {}
+    std::uint32_t cell() const { return static_cast<std::uint32_t>(slot % Grid::cellCount()); }
+    Section section() const { return static_cast<Section>(slot / Grid::cellCount()); }
 };
+static_assert(sizeof(Record) == 16);
 
 /// The epoch of sample index i (0 for i < 2, else floor(log2 i)).
 int epochOf(std::uint32_t sample);
@@ -55,7 +65,7 @@ struct Learning {
     bool probed = false;             ///< the probe ran: its first-hit factors hold for the whole render
     int epoch = 0;                   ///< the epoch being rendered
     Factors factors;                 ///< its factors (none in epoch 0, or when the image had no variance)
-    std::vector<CellSums> sums;      ///< its records so far, per section (ears.h Section) and cell of every level
+    SumTable sums;                   ///< its records so far, per section (ears.h Section) and cell of every level
     std::uint64_t raysAtStart = 0;   ///< the render's rays when the epoch began
     std::uint64_t samplesAtStart = 0;  ///< and its camera samples
     double varianceAtStart = 0;      ///< and the image's variance per camera sample over all samples before it
@@ -70,7 +80,7 @@ struct Learning {
     /// over megabytes: one add at a time would wait on memory for each).
     void add(const std::vector<Record>& records);
     /// Adds another process's or thread's sums of the same epoch.
-    void add(const std::vector<CellSums>& other);
+    void add(const SumTable& other);
     /// Ends the epoch: the next one's factors from this one's sums (after a probe, the first hit's: the
     /// lesser of the probe's and epoch 0's at the end of epoch 0, then those for good), its cost per camera sample (from the
     /// render's rays and samples now) and its variance per camera sample, from the image's over all
