@@ -32,8 +32,6 @@ struct Record {
         : value(value),
           rays(static_cast<std::uint32_t>(std::min<std::uint64_t>(rays, 0xffffffffu))),
           slot(static_cast<std::uint32_t>(Grid::cellCount() * static_cast<std::size_t>(section) + cell)) {}
-    std::uint32_t cell() const { return static_cast<std::uint32_t>(slot % Grid::cellCount()); }
-    Section section() const { return static_cast<Section>(slot / Grid::cellCount()); }
 };
 static_assert(sizeof(Record) == 16);
 
