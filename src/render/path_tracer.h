@@ -121,6 +121,9 @@ public:
     Color cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const;
 
     const Scene& scene() const { return scene_; }
+    /// --splitting ears: whether continuations are reported from now on (a tracer kept from epoch to epoch:
+    /// off in the render's last). Not while a render uses the tracer.
+    void setRecords(bool records) { records_ = records; }
     double epsilon() const { return epsilon_; }
 
 private:
