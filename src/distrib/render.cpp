@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -331,12 +332,16 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
 
 PassRunner leadPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                       std::atomic<std::uint64_t>* progress) {
-    return [&job, &scene, &accel, &estimator, settings, progress](RenderState& state, std::uint32_t upTo) {
+    // In one process, one tracer for every pass of the render (render/renderer.h makeTracer), made at the first.
+    auto tracer = std::make_shared<std::unique_ptr<PathTracer>>();
+    return [&job, &scene, &accel, &estimator, settings, progress, tracer](RenderState& state, std::uint32_t upTo) {
         if (job.active() && job.size() > 1) {
             std::uint32_t pass = upTo;
             MPI_Bcast(&pass, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
+            return renderSamplesDistributed(job, scene, accel, estimator, settings, state, upTo, progress);
         }
-        renderSamplesDistributed(job, scene, accel, estimator, settings, state, upTo, progress);
+        if (!*tracer) *tracer = makeTracer(scene, accel, estimator, settings, state);
+        renderSamples(**tracer, estimator, settings, state, upTo, progress);
     };
 }
 

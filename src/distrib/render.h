@@ -32,7 +32,8 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
 /// Passes (render/progressive.h) shared by the job: rank 0 renders them with the runner of leadPasses,
 /// which first tells the other ranks each pass's sample count, and calls endPasses when they are over;
 /// the other ranks call followPasses, which renders every pass with rank 0 until told to stop. The state
-/// lives on rank 0 alone, so a job resumed from a checkpoint may have any number of ranks.
+/// lives on rank 0 alone, so a job resumed from a checkpoint may have any number of ranks. In one process
+/// the runner keeps one tracer (render/renderer.h makeTracer) for every pass: it serves one state.
 PassRunner leadPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                       std::atomic<std::uint64_t>* progress);
 void endPasses(const MpiJob& job);

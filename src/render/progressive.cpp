@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace symphong {
 
@@ -70,13 +71,16 @@ StopReason renderProgressive(const Scene& scene, const Accel& accel, const Estim
     StopReason why = StopReason::Spp;
     if (stopsNow(rules, state, settings, error, why)) return why;
     std::uint32_t pass = rules.passSpp > 0 ? std::min(rules.passSpp, state.sppBound) : 1;
+    std::unique_ptr<PathTracer> tracer;  // one for every pass (render/renderer.h makeTracer)
     for (;;) {
         const std::uint32_t from = state.samplesReached(), upTo = std::min(state.sppBound, from + pass);
         const double before = state.seconds;
         if (runPass)
             runPass(state, upTo);
-        else
-            renderSamples(scene, accel, estimator, settings, state, upTo, progress);
+        else {
+            if (!tracer) tracer = makeTracer(scene, accel, estimator, settings, state);
+            renderSamples(*tracer, estimator, settings, state, upTo, progress);
+        }
         const double secondsPerSpp = (state.seconds - before) / std::max<std::uint32_t>(1, upTo - from);
         error = worstRelativeError(state, rules.regions);
         PassReport report;

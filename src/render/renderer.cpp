@@ -13,6 +13,7 @@
 #include <oneapi/tbb/version.h>
 
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <mutex>
 #include <optional>
@@ -285,31 +286,48 @@ bool endEpochIfDone(RenderState& state) {
     return true;
 }
 
-void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
-                   std::uint32_t upTo, std::atomic<std::uint64_t>* progress) {
-    if (settings.trace.splitting != SplittingMode::Ears || settings.tiles)
-        return renderSegment(scene, accel, estimator, settings, state, upTo, progress);
-    // Epoch by epoch: every tile finishes one before the factors of the next are learned. One tracer for the
-    // probe and every epoch: making one goes over every triangle (its area and normal, the emitters), 0.2 s
-    // on a 2M-triangle mesh, which a tracer per epoch paid seven times a render.
+std::unique_ptr<PathTracer> makeTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                                       RenderState& state) {
+    const CostClock clock(state);
+    const bool learns = settings.trace.splitting == SplittingMode::Ears;
+    if (learns) startLearning(scene, state);
+    return std::make_unique<PathTracer>(scene, accel, estimator, traceSettings(estimator, settings), learns ? &*state.ears : nullptr,
+                                        recordsEpoch(state));
+}
+
+void renderSamples(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
+                   std::atomic<std::uint64_t>* progress) {
+    if (settings.trace.splitting != SplittingMode::Ears || settings.tiles) {
+        const CostClock clock(state);
+        tracer.setRecords(recordsEpoch(state));
+        return traceSegment(tracer, estimator, settings, state, upTo, progress);
+    }
+    // Epoch by epoch: every tile finishes one before the factors of the next are learned, all with the one
+    // tracer (making one goes over every triangle: 0.2 s on a 2M-triangle mesh, which a tracer per epoch
+    // paid seven times a render).
     upTo = std::min(upTo, state.sppBound);
     if (upTo <= state.samplesReached()) return;
-    std::optional<PathTracer> tracer;
-    {
+    if (probeDue(settings, state)) {
         const CostClock clock(state);
-        startLearning(scene, state);
-        tracer.emplace(scene, accel, estimator, traceSettings(estimator, settings), &*state.ears, true);
-        if (probeDue(settings, state)) probeWith(*tracer, estimator, settings, state);
+        tracer.setRecords(true);
+        probeWith(tracer, estimator, settings, state);
     }
     for (std::uint32_t reached = state.samplesReached(); reached < upTo; reached = state.samplesReached()) {
         {
             const CostClock clock(state);
-            tracer->setRecords(recordsEpoch(state));
-            traceSegment(*tracer, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);
+            tracer.setRecords(recordsEpoch(state));
+            traceSegment(tracer, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);
         }
         endEpochIfDone(state);
         if (settings.cancel && settings.cancel->load()) return;
     }
+}
+
+void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
+                   std::uint32_t upTo, std::atomic<std::uint64_t>* progress) {
+    if (std::min(upTo, state.sppBound) <= state.samplesReached()) return;
+    const std::unique_ptr<PathTracer> tracer = makeTracer(scene, accel, estimator, settings, state);
+    renderSamples(*tracer, estimator, settings, state, upTo, progress);
 }
 
 RenderResult resultOf(const RenderState& state, const std::string& sampler) {

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -124,6 +125,16 @@ void cameraRay(const Camera& cam, int width, int height, double px, double py, V
 /// epoch, then the next epoch's factors (endEpochIfDone), and so on up to `upTo`.
 void renderSamples(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
                    std::uint32_t upTo, std::atomic<std::uint64_t>* progress = nullptr);
+
+/// The path tracer for renders of `state` with these settings, to be kept for many calls of the
+/// renderSamples below (passes: making one goes over every triangle, its area and normal and the emitters,
+/// 0.2 s on a 2M-triangle mesh). With --splitting ears it starts the state's learning. Its time counts in
+/// the state's.
+std::unique_ptr<PathTracer> makeTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
+                                       RenderState& state);
+/// renderSamples with a tracer from makeTracer for this state, scene and settings (the same result).
+void renderSamples(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
+                   std::atomic<std::uint64_t>* progress = nullptr);
 
 /// renderSamples within one epoch of --splitting ears (`upTo` at most the end of the epoch the state is
 /// in): the tiles' continuations are added to the epoch's sums in state.ears. What distrib/ runs on
