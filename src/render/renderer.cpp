@@ -13,8 +13,8 @@
 #include <oneapi/tbb/version.h>
 
 #include <chrono>
-#include <memory>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <optional>
 
