@@ -127,9 +127,12 @@ private:
 /// this spp, resumed or not).
 bool recordsEpoch(const RenderState& state) { return state.ears && !ears::lastEpoch(state.ears->epoch, state.sppBound); }
 
-/// renderSegment with a tracer made for it (its records switched as recordsEpoch says); no clock.
-void traceSegment(const PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
+/// renderSegment with a tracer from makeTracer, its records switched on or off as recordsEpoch says; its
+/// time counts in the state's.
+void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
                   std::atomic<std::uint64_t>* progress) {
+    const CostClock clock(state);
+    tracer.setRecords(recordsEpoch(state));
     const bool learns = settings.trace.splitting == SplittingMode::Ears;
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
@@ -182,18 +185,14 @@ void traceSegment(const PathTracer& tracer, const Estimator& estimator, const Re
     forEachTile(settings, renderTile);
 }
 
-/// probeLearning with its tracer (the epochs' own, recording); no clock.
-void probeWith(const PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state);
+/// probeLearning with a tracer from makeTracer (switched to recording); its time counts in the state's.
+void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state);
 
 }  // namespace
 
 void renderSegment(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state,
                    std::uint32_t upTo, std::atomic<std::uint64_t>* progress) {
-    const CostClock clock(state);
-    const bool learns = settings.trace.splitting == SplittingMode::Ears;
-    if (learns) startLearning(scene, state);
-    const PathTracer tracer(scene, accel, estimator, traceSettings(estimator, settings), learns ? &*state.ears : nullptr, recordsEpoch(state));
-    traceSegment(tracer, estimator, settings, state, upTo, progress);
+    traceSegment(*makeTracer(scene, accel, estimator, settings, state), estimator, settings, state, upTo, progress);
 }
 
 void startLearning(const Scene& scene, RenderState& state) {
@@ -216,15 +215,14 @@ bool probeDue(const RenderSettings& settings, const RenderState& state) {
 void probeLearning(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state) {
     if (settings.trace.splitting != SplittingMode::Ears || state.sppBound < ears::kProbeMinSpp) return;
     startLearning(scene, state);
-    if (!probeDue(settings, state)) return;
-    const CostClock clock(state);
-    const PathTracer tracer(scene, accel, estimator, traceSettings(estimator, settings), &*state.ears, true);
-    probeWith(tracer, estimator, settings, state);
+    if (probeDue(settings, state)) probeWith(*makeTracer(scene, accel, estimator, settings, state), estimator, settings, state);
 }
 
 namespace {
 
-void probeWith(const PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state) {
+void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state) {
+    const CostClock clock(state);
+    tracer.setRecords(true);
     ears::Learning& learning = *state.ears;
     const Scene& scene = tracer.scene();
     const auto sampler =
@@ -297,27 +295,15 @@ std::unique_ptr<PathTracer> makeTracer(const Scene& scene, const Accel& accel, c
 
 void renderSamples(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
                    std::atomic<std::uint64_t>* progress) {
-    if (settings.trace.splitting != SplittingMode::Ears || settings.tiles) {
-        const CostClock clock(state);
-        tracer.setRecords(recordsEpoch(state));
-        return traceSegment(tracer, estimator, settings, state, upTo, progress);
-    }
+    if (settings.trace.splitting != SplittingMode::Ears || settings.tiles) return traceSegment(tracer, estimator, settings, state, upTo, progress);
     // Epoch by epoch: every tile finishes one before the factors of the next are learned, all with the one
     // tracer (making one goes over every triangle: 0.2 s on a 2M-triangle mesh, which a tracer per epoch
     // paid seven times a render).
     upTo = std::min(upTo, state.sppBound);
     if (upTo <= state.samplesReached()) return;
-    if (probeDue(settings, state)) {
-        const CostClock clock(state);
-        tracer.setRecords(true);
-        probeWith(tracer, estimator, settings, state);
-    }
+    if (probeDue(settings, state)) probeWith(tracer, estimator, settings, state);
     for (std::uint32_t reached = state.samplesReached(); reached < upTo; reached = state.samplesReached()) {
-        {
-            const CostClock clock(state);
-            tracer.setRecords(recordsEpoch(state));
-            traceSegment(tracer, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);
-        }
+        traceSegment(tracer, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);
         endEpochIfDone(state);
         if (settings.cancel && settings.cancel->load()) return;
     }
