@@ -116,6 +116,73 @@ TEST(EarsSums, AreTheSameBitForBitInAnyOrderAndMatchTheMoments) {
     EXPECT_DOUBLE_EQ(inOrder.meanCost(), static_cast<double>(cost / n));
 }
 
+// A CellSet visits what it holds in increasing order, within any range (bounds inside a word too), and
+// holds nothing after clear().
+TEST(EarsCellSet, VisitsItsCellsInOrderWithinAnyRange) {
+    ears::CellSet set(1000);
+    const std::vector<std::size_t> cells = {0, 1, 63, 64, 65, 127, 128, 500, 511, 512, 998, 999};
+    for (auto it = cells.rbegin(); it != cells.rend(); ++it) set.insert(*it);
+    set.insert(64);  // twice: still once
+    for (const auto& [from, to] : std::vector<std::pair<std::size_t, std::size_t>>{{0, 1000}, {1, 64}, {63, 66}, {66, 127}, {128, 999}, {500, 500}, {0, 5000}}) {
+        std::vector<std::size_t> seen, expected;
+        set.forEach(from, to, [&](std::size_t c) { seen.push_back(c); });
+        for (std::size_t c : cells)
+            if (c >= from && c < to) expected.push_back(c);
+        EXPECT_EQ(seen, expected) << "[" << from << ", " << to << ")";
+    }
+    EXPECT_TRUE(set.contains(999));
+    EXPECT_FALSE(set.contains(2));
+    EXPECT_FALSE(set.contains(5000));
+    set.clear();
+    std::size_t left = 0;
+    set.forEach(0, 1000, [&](std::size_t) { ++left; });
+    EXPECT_EQ(left, 0u);
+}
+
+// The end of an epoch visits only the cells that records reached (Learning keeps them in a CellSet):
+// its factors equal, bit for bit, those learned from a scan of the whole table (propagateToCoarserCells
+// and learnFactors without a set: the second method), epoch after epoch, and every cell, the coarser
+// ones that the carrying-up filled included, is empty again afterwards.
+TEST(EarsLearn, TheCellsRecordsReachedAreAllTheEpochsEndVisits) {
+    const ears::Grid grid(Vec3(-1, -1, -1), Vec3(1, 1, 1));
+    ears::Learning l(grid);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::uint64_t rays = 0, samples = 0;
+    for (int epoch = 0; epoch < 3; ++epoch) {
+        // Records on a few surfaces (two planes and a sphere), in every section, some cells with few.
+        std::vector<ears::Record> records;
+        for (int i = 0; i < 60000; ++i) {
+            Vec3 p(u(rng), u(rng), u(rng));
+            if (i % 3 == 0) p.y = -0.9;
+            else if (i % 3 == 1) p.x = 0.3 * epoch - 0.5;
+            else p = normalize(p) * 0.4;
+            const auto cell = static_cast<std::uint32_t>(grid.cell(p, ears::Grid::kLevels - 1));
+            const auto section = static_cast<ears::Section>(i % ears::kSections);
+            records.emplace_back(cell, std::pow(u(rng) + 1.0, 3), 1 + rng() % 5, section);
+        }
+        for (std::size_t i = 0; i < records.size(); i += 5000)
+            l.add(std::vector<ears::Record>(records.begin() + static_cast<long>(i), records.begin() + static_cast<long>(std::min(records.size(), i + 5000))));
+        l.add(records.front());
+        rays += 400000, samples += 50000;
+        ears::SumTable scanned = l.sums();
+        ears::propagateToCoarserCells(scanned);
+        const std::uint64_t epochSamples = samples - l.samplesAtStart, epochRays = rays - l.raysAtStart;
+        const double variance = 0.5 + epoch, measured = epoch == 0 ? variance : std::max(2 * variance - l.varianceAtStart, 0.25 * variance);
+        const ears::Factors expected = ears::learnFactors(
+            scanned, {static_cast<double>(epochRays) / static_cast<double>(epochSamples), measured, static_cast<double>(epochSamples)});
+        ASSERT_FALSE(expected.empty());
+        l.advance(variance, rays, samples);
+        ASSERT_EQ(l.factors.momentRatio.size(), expected.momentRatio.size());
+        EXPECT_EQ(std::memcmp(l.factors.momentRatio.data(), expected.momentRatio.data(), expected.momentRatio.size() * sizeof(float)), 0);
+        EXPECT_EQ(std::memcmp(l.factors.varianceRatio.data(), expected.varianceRatio.data(), expected.varianceRatio.size() * sizeof(float)), 0);
+        EXPECT_EQ(std::memcmp(l.factors.firstHit.data(), expected.firstHit.data(), expected.firstHit.size() * sizeof(float)), 0);
+        EXPECT_EQ(l.factors.scale, expected.scale);
+        EXPECT_GT(std::count_if(expected.firstHit.begin(), expected.firstHit.end(), [](float q) { return q >= 1; }), 100);
+        EXPECT_TRUE(std::all_of(l.sums().begin(), l.sums().end(), [](const ears::CellSums& c) { return c.empty(); }));
+    }
+}
+
 // The first hit's number of continuations: the power of two nearest the model's q on a log scale, which is
 // the brute-force best power of two for the model's a / n + b n (its ratio to the minimum, q/n + n/q).
 TEST(EarsFactor, FirstHitBlocksAreTheBestPowerOfTwo) {
@@ -221,7 +288,7 @@ TEST(EarsLearn, FirstHitFactorsAreTheModelsOptimumInOneEpoch) {
         V += c.n * c.v / 2;
         C += c.n * 2 * c.cost;
     }
-    const ears::Factors f = ears::learnFactors(l.sums, {C, V, N});
+    const ears::Factors f = ears::learnFactors(l.sums(), {C, V, N});
     ASSERT_FALSE(f.empty());
     std::vector<double> q;
     for (const Cell& c : cells) {
@@ -314,7 +381,7 @@ TEST(EarsLearn, AfterTheProbeFirstHitFactorsOnlyFallThenHold) {
     addFirstHits(l, a, 600, 4.0, 2);
     addFirstHits(l, b, 300, 0.5, 1);
     l.add({static_cast<std::uint32_t>(grid.cell(a, ears::Grid::kLevels - 1)), 1.0, 3, ears::Section::Deeper});
-    ears::SumTable probeSums = l.sums;
+    ears::SumTable probeSums = l.sums();
     ears::propagateToCoarserCells(probeSums);
     const ears::Factors expected = ears::learnFactors(probeSums, {5.0, 0.4, 1000});
     l.learnFromProbe(0.4, 5000, 1000);
@@ -325,13 +392,13 @@ TEST(EarsLearn, AfterTheProbeFirstHitFactorsOnlyFallThenHold) {
     EXPECT_EQ(factorAt(l.factors, b), factorAt(expected, b));
     EXPECT_GT(factorAt(l.factors, a), 1.5);
     EXPECT_TRUE(std::all_of(l.factors.momentRatio.begin(), l.factors.momentRatio.end(), [](float r) { return r < 0; }));
-    EXPECT_TRUE(std::all_of(l.sums.begin(), l.sums.end(), [](const ears::CellSums& c) { return c.empty(); }));
+    EXPECT_TRUE(std::all_of(l.sums().begin(), l.sums().end(), [](const ears::CellSums& c) { return c.empty(); }));
     const double probeA = factorAt(l.factors, a), probeB = factorAt(l.factors, b);
 
     // Epoch 0: a's continuations vary less (its own factor falls), b's more (its own would rise).
     addFirstHits(l, a, 600, 0.05, 2);
     addFirstHits(l, b, 300, 16.0, 1);
-    ears::SumTable epochSums = l.sums;
+    ears::SumTable epochSums = l.sums();
     ears::propagateToCoarserCells(epochSums);
     const ears::Factors epoch0 = ears::learnFactors(epochSums, {5.0, 0.4, 1000});
     ASSERT_LT(factorAt(epoch0, a), probeA);
@@ -383,7 +450,7 @@ TEST(EarsRender, TheProbeRunsOnceAndStaysOutOfTheImage) {
         ASSERT_TRUE(state.ears);
         EXPECT_FALSE(state.ears->probed);
         EXPECT_EQ(state.rays, 0u);
-        EXPECT_TRUE(std::all_of(state.ears->sums.begin(), state.ears->sums.end(), [](const ears::CellSums& c) { return c.empty(); }));
+        EXPECT_TRUE(std::all_of(state.ears->sums().begin(), state.ears->sums().end(), [](const ears::CellSums& c) { return c.empty(); }));
         rs.cancel = nullptr;
         probeLearning(scene, accel, *est, rs, state);
         EXPECT_TRUE(state.ears->probed);
@@ -416,7 +483,7 @@ TEST(EarsRender, OnlyTheLastEpochGoesUnrecorded) {
         renderSamples(scene, accel, *est, rs, state, 6);
         ASSERT_TRUE(state.ears);
         EXPECT_EQ(state.ears->epoch, 2);
-        for (const ears::CellSums& c : state.ears->sums) recorded[i] += c.count;
+        for (const ears::CellSums& c : state.ears->sums()) recorded[i] += c.count;
         images[i] = state.image();
     }
     EXPECT_GT(recorded[0], 8u * 8u * 2u);  // at least one continuation per camera sample of the epoch so far
@@ -444,7 +511,7 @@ TEST(EarsRender, TheClosedFurnaceKeepsItsClosedForm) {
             ASSERT_TRUE(state.ears);
             EXPECT_EQ(state.ears->epoch, 5);  // epochs [0,2) [2,4) ... [32,64): learned five times (not after the last)
             // The last epoch, [32,64), has no epoch after it: its continuations are not recorded.
-            for (const ears::CellSums& c : state.ears->sums) ASSERT_TRUE(c.empty());
+            for (const ears::CellSums& c : state.ears->sums()) ASSERT_TRUE(c.empty());
             EXPECT_FALSE(state.ears->factors.empty());
             EXPECT_EQ(state.badSamples, 0u);
             const Image img = state.image();
@@ -595,7 +662,7 @@ TEST(EarsCheckpoint, ResumesInsideAnEpochBitForBit) {
     EXPECT_EQ(resumed.ears->factors.varianceRatio, part.ears->factors.varianceRatio);
     EXPECT_EQ(resumed.ears->factors.scale, part.ears->factors.scale);
     EXPECT_EQ(resumed.ears->factors.firstHit, part.ears->factors.firstHit);
-    EXPECT_EQ(std::memcmp(resumed.ears->sums.data(), part.ears->sums.data(), part.ears->sums.size() * sizeof(ears::CellSums)), 0);
+    EXPECT_EQ(std::memcmp(resumed.ears->sums().data(), part.ears->sums().data(), part.ears->sums().size() * sizeof(ears::CellSums)), 0);
     renderSamples(scene, accel, *est, rs, resumed, 16);
     EXPECT_TRUE(sameBits(whole.image(), resumed.image()));
     EXPECT_TRUE(sameBits(whole.variance(), resumed.variance()));

@@ -223,7 +223,7 @@ void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
             l.factors.momentRatio.resize(static_cast<std::size_t>(cells));
             l.factors.firstHit.resize(static_cast<std::size_t>(cells));
         }
-        l.sums.assign(ears::Learning::sumCount(), ears::CellSums{});
+        l.clearSums();
     }
     if (epochAndFactors[1])
         for (std::vector<float>* table : {&l.factors.varianceRatio, &l.factors.momentRatio, &l.factors.firstHit})
@@ -233,7 +233,7 @@ void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
 /// --splitting ears: every rank's sums of the epoch's records added into rank 0's (exact integers: the
 /// same in any order, so the same as one process's).
 void gatherLearning(const MpiJob& job, RenderState& state) {
-    ears::SumTable& sums = state.ears->sums;
+    const ears::SumTable& sums = state.ears->sums();
     const int bytes = static_cast<int>(sums.size() * sizeof(ears::CellSums));
     if (!job.root()) {
         MPI_Send(sums.data(), bytes, MPI_BYTE, 0, kTagLearning, MPI_COMM_WORLD);

@@ -99,10 +99,11 @@ EarsSections packEars(const std::optional<ears::Learning>& learning) {
             e.factorCells.push_back(static_cast<std::uint32_t>(c));
             e.factorRatios.insert(e.factorRatios.end(), {f.varianceRatio[c], f.momentRatio[c], f.firstHit[c]});
         }
-    for (std::size_t c = 0; c < learning->sums.size(); ++c)
-        if (!learning->sums[c].empty()) {
+    const ears::SumTable& sums = learning->sums();
+    for (std::size_t c = 0; c < sums.size(); ++c)
+        if (!sums[c].empty()) {
             e.sumCells.push_back(static_cast<std::uint32_t>(c));
-            e.sums.push_back(learning->sums[c]);
+            e.sums.push_back(sums[c]);
         }
     return e;
 }
@@ -190,8 +191,8 @@ bool unpackEars(const EarsSections& e, ears::Learning& l) {
         l.factors.firstHit[e.factorCells[i]] = e.factorRatios[3 * i + 2];
     }
     for (std::size_t i = 0; i < e.sumCells.size(); ++i) {
-        if (e.sumCells[i] >= l.sums.size()) return false;
-        l.sums[e.sumCells[i]] = e.sums[i];
+        if (e.sumCells[i] >= l.sums().size()) return false;
+        l.add(e.sumCells[i], e.sums[i]);
     }
     return true;
 }

@@ -260,7 +260,7 @@ void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSetti
     });
     if (cancelled()) {
         // Stopped part way: nothing learned (a resumed render probes again, the same way).
-        learning.sums.assign(ears::Learning::sumCount(), ears::CellSums{});
+        learning.clearSums();
         return;
     }
     double v = 0;

@@ -97,14 +97,6 @@ Grid Grid::fromBox(const Vec3& lo, const Vec3& hi) {
     return g;
 }
 
-std::size_t Grid::ancestor(std::size_t finest, int level) {
-    const auto fine = static_cast<std::size_t>(kResolution[kLevels - 1]);
-    const std::size_t i = finest - firstCell(kLevels - 1), ix = i % fine, iy = i / fine % fine, iz = i / (fine * fine);
-    const auto r = static_cast<std::size_t>(kResolution[static_cast<std::size_t>(level)]);
-    const std::size_t shift = fine / r;
-    return firstCell(level) + (iz / shift * r + iy / shift) * r + ix / shift;
-}
-
 long Factors::cellAt(const std::vector<float>& table, std::size_t finest) {
     if (table[finest] >= 0) return static_cast<long>(finest);
     for (int level = Grid::kLevels - 2; level >= 0; --level) {
@@ -136,12 +128,19 @@ double firstHitVariance(const CellSums& continuations, const CellSums& vertices)
 /// The model's V x C optimum over the first hit's cells: lambda with lambda^2 V(lambda) = C(lambda), by
 /// bisection on log lambda (lambda^2 V - C grows with lambda: the terms of unclamped cells cancel).
 double solveScale(double v0, double c0, const std::vector<FirstHitCell>& cells) {
+    // What every step of the bisection needs of a cell, computed once (the same values, bit for bit).
+    struct Term {
+        double ratio, weightedVariance, vertices, cost;  // sqrt(v / C_c), n v, n, C_c
+    };
+    std::vector<Term> terms;
+    terms.reserve(cells.size());
+    for (const FirstHitCell& m : cells) terms.push_back({std::sqrt(m.variance / m.cost), m.vertices * m.variance, m.vertices, m.cost});
     const auto gap = [&](double lambda) {
         double v = v0, c = c0;
-        for (const FirstHitCell& m : cells) {
-            const double q = std::clamp(lambda * std::sqrt(m.variance / m.cost), 1.0, kMaxFactor);
-            v += m.vertices * m.variance / q;
-            c += m.vertices * q * m.cost;
+        for (const Term& t : terms) {
+            const double q = std::clamp(lambda * t.ratio, 1.0, kMaxFactor);
+            v += t.weightedVariance / q;
+            c += t.vertices * q * t.cost;
         }
         return lambda * lambda * v - c;
     };
@@ -156,10 +155,19 @@ double solveScale(double v0, double c0, const std::vector<FirstHitCell>& cells) 
 
 }  // namespace
 
-Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) {
-    Factors f;
+CellSet occupiedCells(const SumTable& sums) {
+    CellSet set(sums.size());
+    for (std::size_t c = 0; c < sums.size(); ++c)
+        if (!sums[c].empty()) set.insert(c);
+    return set;
+}
+
+Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) { return learnFactors(sums, epoch, occupiedCells(sums)); }
+
+Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const CellSet& occupied, Factors storage) {
     const double V = epoch.variancePerSample, C = epoch.costPerSample, N = epoch.cameraSamples;
-    if (!(V > 0) || !(C > 0) || !(N > 0) || !std::isfinite(V)) return f;
+    if (!(V > 0) || !(C > 0) || !(N > 0) || !std::isfinite(V)) return Factors{};
+    Factors f = std::move(storage);
     const std::size_t cells = Grid::cellCount();
     const CellSums* deeper = sums.data() + cells * static_cast<std::size_t>(Section::Deeper);
     const CellSums* firstHit = sums.data() + cells * static_cast<std::size_t>(Section::FirstHit);
@@ -167,29 +175,39 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) {
     f.varianceRatio.assign(cells, -1.0f);
     f.momentRatio.assign(cells, -1.0f);
     f.firstHit.assign(cells, -1.0f);
+    // The sections' first slots: a cell's slot in `occupied` is its section's first slot + the cell.
+    const std::size_t deeperSlot = cells * static_cast<std::size_t>(Section::Deeper);
+    const std::size_t vertexSlot = cells * static_cast<std::size_t>(Section::FirstHitVertex);
+    // Only a cell with first-hit vertices has a first-hit variance (ears::firstHitVariance: -1 below
+    // kMinRecords vertices), only one with deeper records has deeper ratios.
     std::vector<float> firstHitVariance(cells, -1.0f);
-    for (std::size_t c = 0; c < cells; ++c) {
+    occupied.forEach(vertexSlot, vertexSlot + cells, [&](std::size_t slot) {
+        const std::size_t c = slot - vertexSlot;
         firstHitVariance[c] = static_cast<float>(ears::firstHitVariance(firstHit[c], vertices[c]));
+    });
+    occupied.forEach(deeperSlot, deeperSlot + cells, [&](std::size_t slot) {
+        const std::size_t c = slot - deeperSlot;
         const CellSums& s = deeper[c];
-        if (s.count < kMinRecords) continue;
+        if (s.count < kMinRecords) return;
         const double m = s.secondMoment(), mean = s.mean(), cost = std::max(1.0, s.meanCost());
         const double unbiased = static_cast<double>(s.count) / static_cast<double>(s.count - 1);
         f.varianceRatio[c] = static_cast<float>(std::sqrt(std::max(0.0, (m - mean * mean) * unbiased) / cost));
         f.momentRatio[c] = static_cast<float>(std::sqrt(m / cost));
-    }
+    });
     // The model's cells: every finest cell's vertices counted once, in the cell whose estimate they use;
     // V0 and C0 what remains of V and C without the first hit's continuations at their epoch's factors.
     std::vector<FirstHitCell> model;
     std::vector<long> modelIndex(cells, -1);
     double v0 = V, c0 = C;
     const std::size_t finest = Grid::firstCell(Grid::kLevels - 1);
-    for (std::size_t c = finest; c < cells; ++c) {
-        if (vertices[c].count == 0) continue;
+    occupied.forEach(vertexSlot + finest, vertexSlot + cells, [&](std::size_t slot) {
+        const std::size_t c = slot - vertexSlot;
+        if (vertices[c].count == 0) return;
         long used = -1;
         for (int level = Grid::kLevels - 1; level >= 0 && used < 0; --level)
             if (const std::size_t a = Grid::ancestor(c, level); firstHitVariance[a] >= 0) used = static_cast<long>(a);
         const double n = static_cast<double>(vertices[c].count) / N, k = static_cast<double>(firstHit[c].count) / N;
-        if (used < 0) continue;  // no estimate: stays in V0 and C0 at its factor (kept next epoch)
+        if (used < 0) return;  // no estimate: stays in V0 and C0 at its factor (kept next epoch)
         const auto u = static_cast<std::size_t>(used);
         if (modelIndex[u] < 0) {
             modelIndex[u] = static_cast<long>(model.size());
@@ -197,7 +215,7 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) {
         }
         FirstHitCell& m = model[static_cast<std::size_t>(modelIndex[u])];
         m.vertices += n, m.continuations += k;
-    }
+    });
     for (const FirstHitCell& m : model) {
         // At the epoch's factors q_old = continuations / vertices a cell added n v / q_old to V and
         // n q_old C_c to C.
@@ -207,10 +225,12 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) {
     v0 = std::max(v0, 0.02 * V);
     c0 = std::max(c0, 1.0);
     f.scale = model.empty() ? std::sqrt(C / V) : solveScale(v0, c0, model);
-    for (std::size_t c = 0; c < cells; ++c)
+    occupied.forEach(vertexSlot, vertexSlot + cells, [&](std::size_t slot) {
+        const std::size_t c = slot - vertexSlot;
         if (firstHitVariance[c] >= 0)
             f.firstHit[c] = static_cast<float>(
                 std::clamp(f.scale * std::sqrt(firstHitVariance[c] / std::max(1.0, firstHit[c].meanCost())), 1.0, kMaxFactor));
+    });
     // A finest cell without an estimate of its own takes its nearest coarser cell's (what cellAt would
     // find), so that a vertex looks up one cell.
     for (std::size_t c = finest; c < cells; ++c)
@@ -223,11 +243,21 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) {
 }
 
 void propagateToCoarserCells(SumTable& sums) {
+    CellSet occupied = occupiedCells(sums);
+    propagateToCoarserCells(sums, occupied);
+}
+
+void propagateToCoarserCells(SumTable& sums, CellSet& occupied) {
     const std::size_t cells = Grid::cellCount(), finest = Grid::firstCell(Grid::kLevels - 1);
     for (std::size_t base = 0; base + cells <= sums.size(); base += cells)
-        for (std::size_t c = finest; c < cells; ++c)
-            if (!sums[base + c].empty())
-                for (int level = 0; level < Grid::kLevels - 1; ++level) sums[base + Grid::ancestor(c, level)].add(sums[base + c]);
+        occupied.forEach(base + finest, base + cells, [&](std::size_t slot) {
+            if (sums[slot].empty()) return;
+            for (int level = 0; level < Grid::kLevels - 1; ++level) {
+                const std::size_t coarse = base + Grid::ancestor(slot - base, level);
+                sums[coarse].add(sums[slot]);
+                occupied.insert(coarse);
+            }
+        });
 }
 
 void modelVarianceAndCost(double baseVariance, double baseCost, const std::vector<ModelRegion>& regions, const std::vector<double>& q,

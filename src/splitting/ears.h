@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -102,6 +103,8 @@ class Grid {
 public:
     static constexpr int kLevels = 4;
     static constexpr std::array<int, kLevels> kResolution = {4, 8, 16, 32};
+    static_assert(std::all_of(kResolution.begin(), kResolution.end(), [](int r) { return std::has_single_bit(static_cast<unsigned>(r)); }),
+                  "Grid::ancestor works by shifts");
 
     Grid() = default;
     /// The box [lo, hi], widened by 0.1% of its diagonal on every side (points on its faces lie inside).
@@ -130,14 +133,60 @@ public:
         for (int l = 0; l < level; ++l) first += static_cast<std::size_t>(kResolution[l]) * kResolution[l] * kResolution[l];
         return first;
     }
-    /// The cell of `level` that holds cell `finest` of the finest level.
-    static std::size_t ancestor(std::size_t finest, int level);
+    /// The cell of `level` that holds cell `finest` of the finest level. Inline, by shifts (every level's
+    /// resolution is a power of two): the end of an epoch asks it about every finest cell.
+    static std::size_t ancestor(std::size_t finest, int level) {
+        constexpr int fineBits = std::countr_zero(static_cast<unsigned>(kResolution[kLevels - 1]));
+        constexpr std::size_t fineMask = (std::size_t{1} << fineBits) - 1;
+        const std::size_t i = finest - firstCell(kLevels - 1);
+        const int bits = std::countr_zero(static_cast<unsigned>(kResolution[static_cast<std::size_t>(level)]));
+        const int shift = fineBits - bits;
+        const std::size_t ix = (i & fineMask) >> shift, iy = ((i >> fineBits) & fineMask) >> shift, iz = (i >> (2 * fineBits)) >> shift;
+        return firstCell(level) + (((iz << bits) + iy) << bits) + ix;
+    }
     const Vec3& lo() const { return lo_; }
     const Vec3& hi() const { return hi_; }
 
 private:
     Vec3 lo_, hi_, inverseSize_;
 };
+
+/// A set of a SumTable's cells, one bit a cell: the cells that hold records, kept as records arrive
+/// (Learning), so that the end of an epoch carries up, reads and clears those cells alone instead of the
+/// whole 5.4 MB table (a scene's surfaces cross a small part of the grid: the Cornell box's about a fifth
+/// of the finest cells). Visited in increasing order, as a scan of the table would visit them.
+class CellSet {
+public:
+    CellSet() = default;
+    explicit CellSet(std::size_t cells) : words_((cells + 63) / 64, 0) {}
+
+    void insert(std::size_t c) { words_[c >> 6] |= std::uint64_t{1} << (c & 63); }
+    bool contains(std::size_t c) const { return c >> 6 < words_.size() && ((words_[c >> 6] >> (c & 63)) & 1) != 0; }
+    void clear() { std::fill(words_.begin(), words_.end(), 0); }
+    /// The cells it can hold: [0, capacity()).
+    std::size_t capacity() const { return words_.size() * 64; }
+    /// fn(c) for every c of the set in [from, to), in increasing order. fn may insert cells outside the range.
+    template <class Fn>
+    void forEach(std::size_t from, std::size_t to, Fn&& fn) const {
+        to = std::min(to, capacity());
+        for (std::size_t w = from >> 6; w << 6 < to; ++w) {
+            std::uint64_t bits = words_[w];
+            if (w == from >> 6) bits &= ~std::uint64_t{0} << (from & 63);
+            while (bits) {
+                const std::size_t c = (w << 6) + static_cast<std::size_t>(std::countr_zero(bits));
+                if (c >= to) return;
+                fn(c);
+                bits &= bits - 1;
+            }
+        }
+    }
+
+private:
+    std::vector<std::uint64_t> words_;
+};
+
+/// The cells of `sums` that hold records, by a scan of the whole table.
+CellSet occupiedCells(const SumTable& sums);
 
 /// What the sums of an epoch hold, in three sections of Grid::cellCount() cells each (Learning::sums):
 ///  - Deeper: continuations of vertices after the first hit (count, rays, values and squares);
@@ -183,10 +232,17 @@ struct EpochMeasure {
 /// q_c = lambda sqrt(v_c / C_c) clamped to [1, kMaxFactor] with lambda^2 = C(q) / V(q) (found by
 /// bisection); lambda is the scale (a vertex takes firstHitBlock(q_c) continuations). No factors at all
 /// when V is not positive.
+/// `occupied`: the cells of `sums` that hold records (every other cell is taken to be empty); without it,
+/// a scan of the table finds them. `storage`: factors whose buffers the result takes over (their values do
+/// not matter), so that each epoch's end refills the last one's memory instead of touching fresh pages.
+Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const CellSet& occupied, Factors storage = {});
 Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch);
 
 /// Sums of the finest cells (where Learning::add puts records) added into every coarser cell that holds
-/// them, section by section (sums: whole sections of Grid::cellCount() cells).
+/// them, section by section (sums: whole sections of Grid::cellCount() cells). `occupied`: the cells that
+/// hold records (every other is taken to be empty), the coarser cells that receive some added to it;
+/// without it, a scan of the table finds them.
+void propagateToCoarserCells(SumTable& sums, CellSet& occupied);
 void propagateToCoarserCells(SumTable& sums);
 
 /// A model of an image for the fixed point: per camera sample, `visits` vertices of this region with

@@ -15,15 +15,32 @@ std::uint32_t epochEnd(std::uint32_t reached) {
 
 std::uint32_t epochStart(int epoch) { return epoch == 0 ? 0u : epoch >= 32 ? 0xffffffffu : (1u << epoch); }
 
+void Learning::clearSums() {
+    if (sums_.size() != sumCount() || occupied_.capacity() < sumCount()) {
+        sums_.assign(sumCount(), CellSums{});
+        occupied_ = CellSet(sumCount());
+        return;
+    }
+    occupied_.forEach(0, sumCount(), [&](std::size_t c) { sums_[c] = CellSums{}; });
+    occupied_.clear();
+}
+
+void Learning::add(std::size_t slot, const CellSums& s) {
+    if (s.empty()) return;
+    sums_[slot].add(s);
+    occupied_.insert(slot);
+}
+
 void Learning::add(const Record& r) {
-    sums[r.slot].add(r.value, r.rays);  // the coarser cells at the epoch's end
+    sums_[r.slot].add(r.value, r.rays);  // the coarser cells at the epoch's end
+    occupied_.insert(r.slot);
 }
 
 void Learning::add(const std::vector<Record>& records) {
     constexpr std::size_t kAhead = 16;
     // A cell's 48 bytes may span two cache lines: both fetched.
     const auto fetch = [&](const Record& r) {
-        const char* cell = reinterpret_cast<const char*>(&sums[r.slot]);
+        const char* cell = reinterpret_cast<const char*>(&sums_[r.slot]);
         __builtin_prefetch(cell, 1);
         __builtin_prefetch(cell + sizeof(CellSums) - 1, 1);
     };
@@ -31,13 +48,13 @@ void Learning::add(const std::vector<Record>& records) {
     for (std::size_t i = 0; i < std::min(n, kAhead); ++i) fetch(records[i]);
     for (std::size_t i = 0; i < n; ++i) {
         if (i + kAhead < n) fetch(records[i + kAhead]);
-        sums[records[i].slot].add(records[i].value, records[i].rays);
+        sums_[records[i].slot].add(records[i].value, records[i].rays);
+        occupied_.insert(records[i].slot);
     }
 }
 
 void Learning::add(const SumTable& other) {
-    for (std::size_t c = 0; c < sums.size() && c < other.size(); ++c)
-        if (!other[c].empty()) sums[c].add(other[c]);
+    for (std::size_t c = 0; c < sums_.size() && c < other.size(); ++c) add(c, other[c]);
 }
 
 void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples) {
@@ -45,8 +62,8 @@ void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64
     m.cameraSamples = static_cast<double>(samples - std::min(samples, samplesAtStart));
     m.costPerSample = m.cameraSamples > 0 ? static_cast<double>(rays - raysAtStart) / m.cameraSamples : 0;
     m.variancePerSample = epoch == 0 ? variancePerSample : std::max(2 * variancePerSample - varianceAtStart, 0.25 * variancePerSample);
-    propagateToCoarserCells(sums);
-    Factors next = learnFactors(sums, m);
+    propagateToCoarserCells(sums_, occupied_);
+    Factors next = learnFactors(sums_, m, occupied_, std::move(spare_));
     // After a probe (see kProbeSamples) the first hit's factors may fall at the end of epoch 0, never rise,
     // and hold from then on.
     if (probed && !factors.empty() && !next.empty()) {
@@ -54,11 +71,12 @@ void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64
             for (std::size_t c = 0; c < next.firstHit.size(); ++c)
                 if (factors.firstHit[c] >= 0 && (next.firstHit[c] < 0 || factors.firstHit[c] < next.firstHit[c])) next.firstHit[c] = factors.firstHit[c];
         } else {
-            next.firstHit = std::move(factors.firstHit);
+            std::swap(next.firstHit, factors.firstHit);
         }
     }
+    spare_ = std::move(factors);
     factors = std::move(next);
-    sums.assign(sumCount(), CellSums{});
+    clearSums();
     varianceAtStart = variancePerSample;
     ++epoch;
     raysAtStart = rays;
@@ -70,14 +88,14 @@ void Learning::learnFromProbe(double variancePerSample, std::uint64_t rays, std:
     m.cameraSamples = static_cast<double>(samples);
     m.costPerSample = samples > 0 ? static_cast<double>(rays) / static_cast<double>(samples) : 0;
     m.variancePerSample = variancePerSample;
-    propagateToCoarserCells(sums);
-    factors = learnFactors(sums, m);
+    propagateToCoarserCells(sums_, occupied_);
+    factors = learnFactors(sums_, m, occupied_);
     // Deeper vertices go unlearned through epoch 0, as without a probe: the probe's few pixels measure the
     // image's variance V too unevenly for the scale sqrt(C / V) that every deeper factor takes (seeds whose
     // probe missed the rare bright paths split every bounce up to 8 times).
     std::fill(factors.varianceRatio.begin(), factors.varianceRatio.end(), -1.0f);
     std::fill(factors.momentRatio.begin(), factors.momentRatio.end(), -1.0f);
-    sums.assign(sumCount(), CellSums{});
+    clearSums();
     probed = true;
 }
 

@@ -63,14 +63,20 @@ struct Learning {
     bool probed = false;             ///< the probe ran: its first-hit factors hold for the whole render
     int epoch = 0;                   ///< the epoch being rendered
     Factors factors;                 ///< its factors (none in epoch 0, or when the image had no variance)
-    SumTable sums;                   ///< its records so far, per section (ears.h Section) and cell of every level
     std::uint64_t raysAtStart = 0;   ///< the render's rays when the epoch began
     std::uint64_t samplesAtStart = 0;  ///< and its camera samples
     double varianceAtStart = 0;      ///< and the image's variance per camera sample over all samples before it
 
     Learning() = default;
-    explicit Learning(const Grid& g) : grid(g), sums(sumCount()) {}
+    explicit Learning(const Grid& g) : grid(g), sums_(sumCount()), occupied_(sumCount()) {}
     static std::size_t sumCount() { return kSections * Grid::cellCount(); }
+
+    /// The epoch's records so far, per section (ears.h Section) and cell of every level.
+    const SumTable& sums() const { return sums_; }
+    /// Empties the sums (all sumCount() cells).
+    void clearSums();
+    /// Adds sums to one slot (section x Grid::cellCount() + cell): a checkpoint's, read back.
+    void add(std::size_t slot, const CellSums& s);
 
     /// Adds a record to its section's finest cell (the coarser ones get their sums when the epoch ends).
     void add(const Record& r);
@@ -89,6 +95,11 @@ struct Learning {
     /// and the variance per camera sample of its pixels (deeper vertices stay unlearned); the sums start
     /// empty for epoch 0, the epoch stays 0.
     void learnFromProbe(double variancePerSample, std::uint64_t rays, std::uint64_t samples);
+
+private:
+    SumTable sums_;
+    CellSet occupied_;  ///< the cells of sums_ that hold records: all an epoch's end visits
+    Factors spare_;     ///< the factors before the current ones: the next epoch's end refills their buffers
 };
 
 }  // namespace symphong::ears
