@@ -109,6 +109,40 @@ Vec3 PathTracer::shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& 
     return ns * side;
 }
 
+// --splitting ears (both inline: once per path vertex, from shade).
+inline void PathTracer::prefetchFactor(std::size_t finest, int depth) const {
+    const ears::Factors& f = learning_->factors;
+    if (f.empty()) return;
+    if (depth == 0) {
+        __builtin_prefetch(&f.firstHit[finest]);
+    } else {
+        __builtin_prefetch(&f.momentRatio[finest]);
+        __builtin_prefetch(&f.varianceRatio[finest]);
+    }
+}
+
+inline double PathTracer::continuationFactor(std::size_t finest, const Color& throughput, int depth) const {
+    const ears::Factors& f = learning_->factors;
+    if (depth == 0) {
+        // The first hit's factor is solved for its cell (splitting/ears.h learnFactors) and rounded to a
+        // power of two (firstHitBlock); where no cell has one yet, two continuations, so that the next
+        // epoch learns the within-vertex variance there.
+        // learnFactors gave every finest cell its nearest estimate (Factors): one lookup, no walk up the levels.
+        return !f.empty() && f.firstHit[finest] >= 0 ? ears::firstHitBlock(f.firstHit[finest]) : ears::kUnknownFirstHitFactor;
+    }
+    double q = 1;
+    if (!f.empty() && f.momentRatio[finest] >= 0) {
+        q = ears::splittingFactor(luminance(throughput), f.varianceRatio[finest], f.momentRatio[finest], f.scale);
+        if (depth + 1 < settings_.rrDepth)
+            q = std::max(q, 1.0);  // no roulette before the roulette depth (EARS's rrDepth)
+        else if (settings_.earsRouletteFloor)
+            q = ears::flooredRoulette(q, ears::throughputSurvival(maxComponent(throughput)));
+    } else if (depth + 1 >= settings_.rrDepth) {
+        q = ears::throughputSurvival(maxComponent(throughput));
+    }
+    return q;
+}
+
 Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int depth, std::uint64_t path, double prevMisPdf,
                         const Color& throughput, PathContext& pc) const {
     if (!found) return escaped(d, depth, prevMisPdf);
@@ -268,39 +302,6 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
             dirs[i].misPdf *= static_cast<double>(k);
         }
     }
-}
-
-void PathTracer::prefetchFactor(std::size_t finest, int depth) const {
-    const ears::Factors& f = learning_->factors;
-    if (f.empty()) return;
-    if (depth == 0) {
-        __builtin_prefetch(&f.firstHit[finest]);
-    } else {
-        __builtin_prefetch(&f.momentRatio[finest]);
-        __builtin_prefetch(&f.varianceRatio[finest]);
-    }
-}
-
-double PathTracer::continuationFactor(std::size_t finest, const Color& throughput, int depth) const {
-    const ears::Factors& f = learning_->factors;
-    if (depth == 0) {
-        // The first hit's factor is solved for its cell (splitting/ears.h learnFactors) and rounded to a
-        // power of two (firstHitBlock); where no cell has one yet, two continuations, so that the next
-        // epoch learns the within-vertex variance there.
-        // learnFactors gave every finest cell its nearest estimate (Factors): one lookup, no walk up the levels.
-        return !f.empty() && f.firstHit[finest] >= 0 ? ears::firstHitBlock(f.firstHit[finest]) : ears::kUnknownFirstHitFactor;
-    }
-    double q = 1;
-    if (!f.empty() && f.momentRatio[finest] >= 0) {
-        q = ears::splittingFactor(luminance(throughput), f.varianceRatio[finest], f.momentRatio[finest], f.scale);
-        if (depth + 1 < settings_.rrDepth)
-            q = std::max(q, 1.0);  // no roulette before the roulette depth (EARS's rrDepth)
-        else if (settings_.earsRouletteFloor)
-            q = ears::flooredRoulette(q, ears::throughputSurvival(maxComponent(throughput)));
-    } else if (depth + 1 >= settings_.rrDepth) {
-        q = ears::throughputSurvival(maxComponent(throughput));
-    }
-    return q;
 }
 
 Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell,

@@ -44,24 +44,6 @@ double firstHitBlock(double q) {
     return std::min(kMaxFactor, std::exp2(std::round(std::log2(q))));
 }
 
-double throughputSurvival(double maxThroughput) {
-    if (std::isnan(maxThroughput)) return kMinFactor;
-    return std::clamp(maxThroughput, kMinFactor, 0.95);
-}
-
-double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale) {
-    const double split = throughput * varianceRatio * scale;   // q_split = T sqrt(v / C_x) sqrt(C / V)
-    const double roulette = throughput * momentRatio * scale;  // q_rr = T sqrt(M / C_x) sqrt(C / V)
-    if (std::isnan(split) || std::isnan(roulette)) return kMinFactor;
-    double q = 1;
-    if (split > 1)
-        q = split;
-    else if (roulette < 1)
-        q = roulette;
-    if (!(q >= kMinFactor)) return kMinFactor;  // NaN too
-    return std::min(q, kMaxFactor);
-}
-
 void CellSums::add(double value, std::uint64_t rays) {
     if (!(value >= 0)) value = 0;
     value = std::min(value, kMaxValue);
@@ -148,7 +130,10 @@ double solveScale(double v0, double c0, const std::vector<FirstHitCell>& cells) 
     if (gap(std::exp(hi)) <= 0) return std::exp(hi);
     for (int i = 0; i < 80; ++i) {
         const double mid = 0.5 * (lo + hi);
+        // lo and hi neighbours (mid is one of them): every later step would repeat this one or do nothing.
+        const bool last = mid == lo || mid == hi;
         (gap(std::exp(mid)) < 0 ? lo : hi) = mid;
+        if (last) break;
     }
     return std::exp(0.5 * (lo + hi));
 }
@@ -233,12 +218,33 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const Cell
     });
     // A finest cell without an estimate of its own takes its nearest coarser cell's (what cellAt would
     // find), so that a vertex looks up one cell.
-    for (std::size_t c = finest; c < cells; ++c)
-        for (int level = Grid::kLevels - 2; level >= 0 && (f.momentRatio[c] < 0 || f.firstHit[c] < 0); --level) {
-            const std::size_t a = Grid::ancestor(c, level);
-            if (f.momentRatio[c] < 0 && f.momentRatio[a] >= 0) f.momentRatio[c] = f.momentRatio[a], f.varianceRatio[c] = f.varianceRatio[a];
-            if (f.firstHit[c] < 0 && f.firstHit[a] >= 0) f.firstHit[c] = f.firstHit[a];
+    // First every coarser cell's nearest cell with an estimate (itself or one holding it), level by level
+    // from the coarsest (a cell's parent resolved before it), then each finest cell's from its parent's:
+    // one step a cell instead of a walk up the levels for each of the 32,768 finest cells.
+    std::vector<std::int32_t> nearestMoment(finest, -1), nearestFirstHit(finest, -1);
+    for (int level = 0; level < Grid::kLevels - 1; ++level) {
+        const auto r = static_cast<std::size_t>(Grid::kResolution[static_cast<std::size_t>(level)]);
+        const std::size_t first = Grid::firstCell(level), parentFirst = level > 0 ? Grid::firstCell(level - 1) : 0;
+        for (std::size_t i = 0; i < r * r * r; ++i) {
+            const std::size_t c = first + i;
+            std::int32_t moment = f.momentRatio[c] >= 0 ? static_cast<std::int32_t>(c) : -1;
+            std::int32_t hit = f.firstHit[c] >= 0 ? static_cast<std::int32_t>(c) : -1;
+            if (level > 0 && (moment < 0 || hit < 0)) {
+                const std::size_t ix = i % r, iy = i / r % r, iz = i / (r * r), half = r / 2;
+                const std::size_t parent = parentFirst + (iz / 2 * half + iy / 2) * half + ix / 2;
+                if (moment < 0) moment = nearestMoment[parent];
+                if (hit < 0) hit = nearestFirstHit[parent];
+            }
+            nearestMoment[c] = moment, nearestFirstHit[c] = hit;
         }
+    }
+    for (std::size_t c = finest; c < cells; ++c) {
+        if (f.momentRatio[c] >= 0 && f.firstHit[c] >= 0) continue;
+        const std::size_t parent = Grid::ancestor(c, Grid::kLevels - 2);
+        if (const std::int32_t a = nearestMoment[parent]; f.momentRatio[c] < 0 && a >= 0)
+            f.momentRatio[c] = f.momentRatio[static_cast<std::size_t>(a)], f.varianceRatio[c] = f.varianceRatio[static_cast<std::size_t>(a)];
+        if (const std::int32_t a = nearestFirstHit[parent]; f.firstHit[c] < 0 && a >= 0) f.firstHit[c] = f.firstHit[static_cast<std::size_t>(a)];
+    }
     return f;
 }
 

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -52,12 +53,27 @@ inline constexpr double kUnknownFirstHitFactor = 2;
 /// q_split = T sqrt(v / C_x) sqrt(C/V) when that exceeds 1, else q_rr = T sqrt(M / C_x) sqrt(C/V) when that
 /// is below 1, else 1 (the two disagree). `varianceRatio` is sqrt(v / C_x), `momentRatio` sqrt(M / C_x),
 /// `scale` sqrt(C / V). Clamped to [kMinFactor, kMaxFactor]; NaN in, kMinFactor out.
-double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale);
+/// Inline: once per path vertex.
+inline double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale) {
+    const double split = throughput * varianceRatio * scale;   // q_split = T sqrt(v / C_x) sqrt(C / V)
+    const double roulette = throughput * momentRatio * scale;  // q_rr = T sqrt(M / C_x) sqrt(C / V)
+    if (std::isnan(split) || std::isnan(roulette)) return kMinFactor;
+    double q = 1;
+    if (split > 1)
+        q = split;
+    else if (roulette < 1)
+        q = roulette;
+    if (!(q >= kMinFactor)) return kMinFactor;  // NaN too
+    return std::min(q, kMaxFactor);
+}
 
 /// Plain Russian roulette's survival probability at a vertex whose throughput's largest component is
 /// `maxThroughput`: that, clamped to [kMinFactor, 0.95] (NaN: kMinFactor). The factor of a deeper vertex
 /// with no learned cell, and the floor of a learned roulette factor under a low-discrepancy sampler.
-double throughputSurvival(double maxThroughput);
+inline double throughputSurvival(double maxThroughput) {
+    if (std::isnan(maxThroughput)) return kMinFactor;
+    return std::clamp(maxThroughput, kMinFactor, 0.95);
+}
 
 /// A learned factor q with its roulette floored at plain roulette's survival `plain` (q < 1: the larger of
 /// the two; splitting, q >= 1, unchanged). Under a low-discrepancy sampler the render's error is far below
