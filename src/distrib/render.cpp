@@ -248,7 +248,7 @@ void gatherLearning(const MpiJob& job, RenderState& state) {
 
 void renderSegmentDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                               const RenderSettings& settings, RenderState& state, std::uint32_t upTo, std::atomic<std::uint64_t>* progress,
-                              DistributedStats* distributed) {
+                              DistributedStats* distributed, std::unique_ptr<PathTracer>& tracer) {
     const auto start = std::chrono::steady_clock::now();
     const int total = tileCount(settings.width, settings.height);
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
@@ -261,11 +261,15 @@ void renderSegmentDistributed(const MpiJob& job, const Scene& scene, const Accel
     if (!job.root()) local.cancel = nullptr;
     std::vector<int> tilesPerRank(static_cast<std::size_t>(job.size()), 0);
     double gatherSeconds = 0;
+    const auto trace = [&](std::atomic<std::uint64_t>* counted) {
+        if (!tracer) tracer = makeTracer(scene, accel, estimator, local, state);
+        renderSamples(*tracer, estimator, local, state, upTo, counted);
+    };
     if (job.root()) {
         CounterSource counter(total, settings.cancel);
         local.tiles = &counter;
         std::thread dispatcher([&] { dispatchTiles(job, counter, state, upTo, progress); });
-        renderSamples(scene, accel, estimator, local, state, upTo, progress);
+        trace(progress);
         dispatcher.join();
         const auto gatherStart = std::chrono::steady_clock::now();
         gatherTiles(job, state, tilesPerRank);
@@ -275,7 +279,7 @@ void renderSegmentDistributed(const MpiJob& job, const Scene& scene, const Accel
         local.tiles = &remote;
         // Every worker loop ends on next() returning false, which only happens once rank 0 has said
         // that no tiles are left: the dispatcher has heard from this rank for the last time.
-        renderSamples(scene, accel, estimator, local, state, upTo, nullptr);
+        trace(nullptr);
         sendTiles(remote.rendered(), state);
     }
     // The whole job's counts on rank 0 (each rank's own additions summed); its time from the start of
@@ -306,10 +310,16 @@ void renderSegmentDistributed(const MpiJob& job, const Scene& scene, const Accel
 
 void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                               const RenderSettings& settings, RenderState& state, std::uint32_t upTo, std::atomic<std::uint64_t>* progress,
-                              DistributedStats* distributed) {
-    if (!job.active() || job.size() == 1) return renderSamples(scene, accel, estimator, settings, state, upTo, progress);
+                              DistributedStats* distributed, std::unique_ptr<PathTracer>* kept) {
+    std::unique_ptr<PathTracer> own;
+    std::unique_ptr<PathTracer>& tracer = kept ? *kept : own;
+    if (!job.active() || job.size() == 1) {
+        if (std::min(upTo, state.sppBound) <= state.samplesReached()) return;
+        if (!tracer) tracer = makeTracer(scene, accel, estimator, settings, state);
+        return renderSamples(*tracer, estimator, settings, state, upTo, progress);
+    }
     if (settings.trace.splitting != SplittingMode::Ears)
-        return renderSegmentDistributed(job, scene, accel, estimator, settings, state, upTo, progress, distributed);
+        return renderSegmentDistributed(job, scene, accel, estimator, settings, state, upTo, progress, distributed, tracer);
     // --splitting ears: epoch by epoch, as renderSamples in one process. Rank 0, which holds the state,
     // says where each segment ends (0: no more); before it every rank gets rank 0's factors, after it rank
     // 0 adds every rank's records and learns the next epoch's factors. Rank 0 alone runs the learning
@@ -324,7 +334,7 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
         MPI_Bcast(&end, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
         if (end == 0) return;
         shareLearning(job, scene, state);
-        renderSegmentDistributed(job, scene, accel, estimator, settings, state, end, progress, distributed);
+        renderSegmentDistributed(job, scene, accel, estimator, settings, state, end, progress, distributed, tracer);
         gatherLearning(job, state);
         if (job.root()) endEpochIfDone(state);
     }
@@ -332,16 +342,15 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
 
 PassRunner leadPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                       std::atomic<std::uint64_t>* progress) {
-    // In one process, one tracer for every pass of the render (render/renderer.h makeTracer), made at the first.
+    // One tracer for every pass of the render (render/renderer.h makeTracer), made at the first; every
+    // other rank keeps its own the same way (followPasses).
     auto tracer = std::make_shared<std::unique_ptr<PathTracer>>();
     return [&job, &scene, &accel, &estimator, settings, progress, tracer](RenderState& state, std::uint32_t upTo) {
         if (job.active() && job.size() > 1) {
             std::uint32_t pass = upTo;
             MPI_Bcast(&pass, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
-            return renderSamplesDistributed(job, scene, accel, estimator, settings, state, upTo, progress);
         }
-        if (!*tracer) *tracer = makeTracer(scene, accel, estimator, settings, state);
-        renderSamples(**tracer, estimator, settings, state, upTo, progress);
+        renderSamplesDistributed(job, scene, accel, estimator, settings, state, upTo, progress, nullptr, tracer.get());
     };
 }
 
@@ -353,11 +362,12 @@ void endPasses(const MpiJob& job) {
 
 void followPasses(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings) {
     RenderState scratch(settings.width, settings.height, settings.spp);
+    std::unique_ptr<PathTracer> tracer;  // for every pass, as rank 0's (leadPasses)
     for (;;) {
         std::uint32_t upTo = 0;
         MPI_Bcast(&upTo, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
         if (upTo == 0) return;
-        renderSamplesDistributed(job, scene, accel, estimator, settings, scratch, upTo);
+        renderSamplesDistributed(job, scene, accel, estimator, settings, scratch, upTo, nullptr, nullptr, &tracer);
     }
 }
 

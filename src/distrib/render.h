@@ -24,10 +24,13 @@ struct DistributedStats {
 /// the image's size). Rank 0's state gains the whole job's rays, samples, paths and CPU time (summed over the ranks) and
 /// the pass's wall time. With --splitting ears it renders epoch by epoch (splitting/learning.h): rank 0
 /// sends its learned factors to every rank before an epoch's tiles and adds their records to its sums
-/// after them (exact integer sums), so the image is the single-process one too.
+/// after them (exact integer sums), so the image is the single-process one too. `tracer`: where this rank
+/// keeps its path tracer for `state` from call to call (a render's passes: making one goes over every
+/// triangle, render/renderer.h makeTracer); without it, one for the call (every epoch of it).
 void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel& accel, const Estimator& estimator,
                               const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
-                              std::atomic<std::uint64_t>* progress = nullptr, DistributedStats* distributed = nullptr);
+                              std::atomic<std::uint64_t>* progress = nullptr, DistributedStats* distributed = nullptr,
+                              std::unique_ptr<PathTracer>* tracer = nullptr);
 
 /// Passes (render/progressive.h) shared by the job: rank 0 renders them with the runner of leadPasses,
 /// which first tells the other ranks each pass's sample count, and calls endPasses when they are over;
