@@ -267,6 +267,22 @@ def test_progressive_passes_give_the_one_pass_image(sym):
         sym.Progressive(scene, time=10)
 
 
+def test_progressive_passes_under_ears_give_the_one_pass_image(sym):
+    """One path tracer serves every advance(); under --splitting ears it carries the learning from epoch to
+    epoch and pass to pass (the probe, records on in all but the last epoch): passes that cut epochs in two
+    still give the one-pass image bit for bit."""
+    scene = sym.load_scene("cornell")
+    kw = dict(spp=16, width=32, height=32, seed=3, splitting="ears")
+    p = sym.Progressive(scene, **kw)
+    for upTo in (1, 3, 5, 11, 100):
+        last = p.advance(upTo)
+    assert p.samples_reached == 16
+    expected, _ = sym.render(scene, **kw)
+    assert np.array_equal(last, expected)
+    plain, _ = sym.render(scene, **dict(kw, splitting="none"))
+    assert not np.array_equal(expected, plain)
+
+
 def test_progressive_cancel_from_another_thread_stops_the_pass(sym):
     """What the Blender add-on does on Esc: cancel() from a watcher thread while advance() renders. A pass stops
     after the tiles in flight (16 x 16 pixels each): here 64 tiles of 2048 samples per pixel, about a minute
