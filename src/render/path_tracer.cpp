@@ -311,8 +311,9 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     // E[n] = q: floor(q), one more with probability q - floor(q). The first hit's q is a power of two already
     // (continuationFactor: firstHitBlock), so n = q there and its continuations are an aligned block of its
     // sample's block points (SampleStream::blockContinuation). A whole q draws nothing.
-    const double whole = std::floor(q);
-    std::uint32_t n = static_cast<std::uint32_t>(whole);
+    // q in [kMinFactor, kMaxFactor]: truncation is floor (std::floor is a dozen instructions without SSE4.1).
+    std::uint32_t n = static_cast<std::uint32_t>(q);
+    const double whole = n;
     if (q > whole) {
         samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
         n += samples.get1D() < q - whole ? 1u : 0u;
