@@ -149,27 +149,30 @@ CellSet occupiedCells(const SumTable& sums) {
 
 Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) { return learnFactors(sums, epoch, occupiedCells(sums)); }
 
-Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const CellSet& occupied, Factors storage) {
-    const double V = epoch.variancePerSample, C = epoch.costPerSample, N = epoch.cameraSamples;
-    if (!(V > 0) || !(C > 0) || !(N > 0) || !std::isfinite(V)) return Factors{};
-    Factors f = std::move(storage);
-    const std::size_t cells = Grid::cellCount();
-    const CellSums* deeper = sums.data() + cells * static_cast<std::size_t>(Section::Deeper);
-    const CellSums* firstHit = sums.data() + cells * static_cast<std::size_t>(Section::FirstHit);
-    const CellSums* vertices = sums.data() + cells * static_cast<std::size_t>(Section::FirstHitVertex);
-    f.varianceRatio.assign(cells, -1.0f);
-    f.momentRatio.assign(cells, -1.0f);
-    f.firstHit.assign(cells, -1.0f);
-    // The sections' first slots: a cell's slot in `occupied` is its section's first slot + the cell.
-    const std::size_t deeperSlot = cells * static_cast<std::size_t>(Section::Deeper);
-    const std::size_t vertexSlot = cells * static_cast<std::size_t>(Section::FirstHitVertex);
-    // Only a cell with first-hit vertices has a first-hit variance (ears::firstHitVariance: -1 below
-    // kMinRecords vertices), only one with deeper records has deeper ratios.
-    std::vector<float> firstHitVariance(cells, -1.0f);
+namespace {
+
+/// Where a section's cells start in a SumTable (and in the CellSet of its occupied slots).
+std::size_t sectionStart(Section section) { return Grid::cellCount() * static_cast<std::size_t>(section); }
+
+/// Every cell's first-hit variance (ears::firstHitVariance; -1 where it has no estimate): only a cell
+/// with first-hit vertices has one, so only those are visited.
+std::vector<float> firstHitVariances(const SumTable& sums, const CellSet& occupied) {
+    const std::size_t cells = Grid::cellCount(), vertexSlot = sectionStart(Section::FirstHitVertex);
+    const CellSums* firstHit = sums.data() + sectionStart(Section::FirstHit);
+    const CellSums* vertices = sums.data() + vertexSlot;
+    std::vector<float> variance(cells, -1.0f);
     occupied.forEach(vertexSlot, vertexSlot + cells, [&](std::size_t slot) {
         const std::size_t c = slot - vertexSlot;
-        firstHitVariance[c] = static_cast<float>(ears::firstHitVariance(firstHit[c], vertices[c]));
+        variance[c] = static_cast<float>(firstHitVariance(firstHit[c], vertices[c]));
     });
+    return variance;
+}
+
+/// Deeper vertices' ratios sqrt(variance / cost) and sqrt(second moment / cost) of the cells with
+/// kMinRecords records or more (-1 elsewhere).
+void deeperRatios(const SumTable& sums, const CellSet& occupied, Factors& f) {
+    const std::size_t cells = Grid::cellCount(), deeperSlot = sectionStart(Section::Deeper);
+    const CellSums* deeper = sums.data() + deeperSlot;
     occupied.forEach(deeperSlot, deeperSlot + cells, [&](std::size_t slot) {
         const std::size_t c = slot - deeperSlot;
         const CellSums& s = deeper[c];
@@ -179,48 +182,44 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const Cell
         f.varianceRatio[c] = static_cast<float>(std::sqrt(std::max(0.0, (m - mean * mean) * unbiased) / cost));
         f.momentRatio[c] = static_cast<float>(std::sqrt(m / cost));
     });
-    // The model's cells: every finest cell's vertices counted once, in the cell whose estimate they use;
-    // V0 and C0 what remains of V and C without the first hit's continuations at their epoch's factors.
+}
+
+/// The model's cells: every finest cell's vertices counted once, in the cell whose estimate they use
+/// (the finest cell itself or its nearest ancestor with an estimate). A finest cell with none stays in
+/// V0 and C0 at its factor (kept next epoch).
+std::vector<FirstHitCell> firstHitModel(const SumTable& sums, const CellSet& occupied, const std::vector<float>& variance, double N) {
+    const std::size_t cells = Grid::cellCount(), vertexSlot = sectionStart(Section::FirstHitVertex);
+    const CellSums* firstHit = sums.data() + sectionStart(Section::FirstHit);
+    const CellSums* vertices = sums.data() + vertexSlot;
     std::vector<FirstHitCell> model;
     std::vector<long> modelIndex(cells, -1);
-    double v0 = V, c0 = C;
     const std::size_t finest = Grid::firstCell(Grid::kLevels - 1);
     occupied.forEach(vertexSlot + finest, vertexSlot + cells, [&](std::size_t slot) {
         const std::size_t c = slot - vertexSlot;
         if (vertices[c].count == 0) return;
         long used = -1;
         for (int level = Grid::kLevels - 1; level >= 0 && used < 0; --level)
-            if (const std::size_t a = Grid::ancestor(c, level); firstHitVariance[a] >= 0) used = static_cast<long>(a);
+            if (const std::size_t a = Grid::ancestor(c, level); variance[a] >= 0) used = static_cast<long>(a);
+        if (used < 0) return;
         const double n = static_cast<double>(vertices[c].count) / N, k = static_cast<double>(firstHit[c].count) / N;
-        if (used < 0) return;  // no estimate: stays in V0 and C0 at its factor (kept next epoch)
         const auto u = static_cast<std::size_t>(used);
         if (modelIndex[u] < 0) {
             modelIndex[u] = static_cast<long>(model.size());
-            model.push_back({0, 0, firstHitVariance[u], std::max(1.0, firstHit[u].meanCost())});
+            model.push_back({0, 0, variance[u], std::max(1.0, firstHit[u].meanCost())});
         }
         FirstHitCell& m = model[static_cast<std::size_t>(modelIndex[u])];
         m.vertices += n, m.continuations += k;
     });
-    for (const FirstHitCell& m : model) {
-        // At the epoch's factors q_old = continuations / vertices a cell added n v / q_old to V and
-        // n q_old C_c to C.
-        if (m.continuations > 0) v0 -= m.vertices * m.vertices * m.variance / m.continuations;
-        c0 -= m.continuations * m.cost;
-    }
-    v0 = std::max(v0, 0.02 * V);
-    c0 = std::max(c0, 1.0);
-    f.scale = model.empty() ? std::sqrt(C / V) : solveScale(v0, c0, model);
-    occupied.forEach(vertexSlot, vertexSlot + cells, [&](std::size_t slot) {
-        const std::size_t c = slot - vertexSlot;
-        if (firstHitVariance[c] >= 0)
-            f.firstHit[c] = static_cast<float>(
-                std::clamp(f.scale * std::sqrt(firstHitVariance[c] / std::max(1.0, firstHit[c].meanCost())), 1.0, kMaxFactor));
-    });
-    // A finest cell without an estimate of its own takes its nearest coarser cell's (what cellAt would
-    // find), so that a vertex looks up one cell.
-    // First every coarser cell's nearest cell with an estimate (itself or one holding it), level by level
-    // from the coarsest (a cell's parent resolved before it), then each finest cell's from its parent's:
-    // one step a cell instead of a walk up the levels for each of the 32,768 finest cells.
+    return model;
+}
+
+/// A finest cell without an estimate of its own takes its nearest coarser cell's (what cellAt would
+/// find), so that a vertex looks up one cell. First every coarser cell's nearest cell with an estimate
+/// (itself or one holding it), level by level from the coarsest (a cell's parent resolved before it),
+/// then each finest cell's from its parent's: one step a cell instead of a walk up the levels for each
+/// of the 32,768 finest cells.
+void fillFromCoarserCells(Factors& f) {
+    const std::size_t cells = Grid::cellCount(), finest = Grid::firstCell(Grid::kLevels - 1);
     std::vector<std::int32_t> nearestMoment(finest, -1), nearestFirstHit(finest, -1);
     for (int level = 0; level < Grid::kLevels - 1; ++level) {
         const auto r = static_cast<std::size_t>(Grid::kResolution[static_cast<std::size_t>(level)]);
@@ -245,6 +244,39 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const Cell
             f.momentRatio[c] = f.momentRatio[static_cast<std::size_t>(a)], f.varianceRatio[c] = f.varianceRatio[static_cast<std::size_t>(a)];
         if (const std::int32_t a = nearestFirstHit[parent]; f.firstHit[c] < 0 && a >= 0) f.firstHit[c] = f.firstHit[static_cast<std::size_t>(a)];
     }
+}
+
+}  // namespace
+
+Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const CellSet& occupied, Factors storage) {
+    const double V = epoch.variancePerSample, C = epoch.costPerSample, N = epoch.cameraSamples;
+    if (!(V > 0) || !(C > 0) || !(N > 0) || !std::isfinite(V)) return Factors{};
+    Factors f = std::move(storage);
+    const std::size_t cells = Grid::cellCount(), vertexSlot = sectionStart(Section::FirstHitVertex);
+    const CellSums* firstHit = sums.data() + sectionStart(Section::FirstHit);
+    f.varianceRatio.assign(cells, -1.0f);
+    f.momentRatio.assign(cells, -1.0f);
+    f.firstHit.assign(cells, -1.0f);
+    const std::vector<float> variance = firstHitVariances(sums, occupied);
+    deeperRatios(sums, occupied, f);
+    const std::vector<FirstHitCell> model = firstHitModel(sums, occupied, variance, N);
+    // V0 and C0: what remains of V and C without the first hit's continuations at their epoch's factors.
+    // At those factors q_old = continuations / vertices a cell added n v / q_old to V and n q_old C_c to C.
+    double v0 = V, c0 = C;
+    for (const FirstHitCell& m : model) {
+        if (m.continuations > 0) v0 -= m.vertices * m.vertices * m.variance / m.continuations;
+        c0 -= m.continuations * m.cost;
+    }
+    v0 = std::max(v0, 0.02 * V);
+    c0 = std::max(c0, 1.0);
+    f.scale = model.empty() ? std::sqrt(C / V) : solveScale(v0, c0, model);
+    occupied.forEach(vertexSlot, vertexSlot + cells, [&](std::size_t slot) {
+        const std::size_t c = slot - vertexSlot;
+        if (variance[c] >= 0)
+            f.firstHit[c] = static_cast<float>(
+                std::clamp(f.scale * std::sqrt(variance[c] / std::max(1.0, firstHit[c].meanCost())), 1.0, kMaxFactor));
+    });
+    fillFromCoarserCells(f);
     return f;
 }
 
