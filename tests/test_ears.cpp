@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -489,6 +490,32 @@ TEST(EarsRender, OnlyTheLastEpochGoesUnrecorded) {
     EXPECT_GT(recorded[0], 8u * 8u * 2u);  // at least one continuation per camera sample of the epoch so far
     EXPECT_EQ(recorded[1], 0u);
     EXPECT_EQ(images[0].pixels, images[1].pixels);
+}
+
+// Learning is part of a render's cost: the end of an epoch (the image's variance, the sums carried up,
+// learnFactors) counts in the state's wall and CPU time, which the study's cost reads. A state whose epoch
+// 0 is rendered gains time from endEpochIfDone alone (and one whose epoch is not done gains none).
+TEST(EarsRender, TheEndOfAnEpochCountsInTheRendersTime) {
+    const Scene scene = makeCornellBox();
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    const RenderSettings rs = earsSettings(64, 64, 64, 5);
+    RenderState state(64, 64, 64);
+    renderSegment(scene, accel, *est, rs, state, 1);
+    const double seconds = state.seconds, cpu = state.cpuSeconds;
+    EXPECT_FALSE(endEpochIfDone(state));  // epoch 0 is samples [0, 2): not done at 1
+    EXPECT_EQ(state.seconds, seconds);
+    EXPECT_EQ(state.cpuSeconds, cpu);
+    renderSegment(scene, accel, *est, rs, state, 2);
+    const double wallBefore = state.seconds, cpuBefore = state.cpuSeconds;
+    const auto start = std::chrono::steady_clock::now();
+    ASSERT_TRUE(endEpochIfDone(state));
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_EQ(state.ears->epoch, 1);
+    EXPECT_FALSE(state.ears->factors.empty());
+    EXPECT_GT(state.seconds, wallBefore);
+    EXPECT_LE(state.seconds - wallBefore, elapsed);  // its own time, nothing else's
+    EXPECT_GT(state.cpuSeconds, cpuBefore);
 }
 
 // The closed furnace (radiance Le / (1 - a) everywhere inside) with EARS's factors at every vertex: the
