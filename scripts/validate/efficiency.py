@@ -42,6 +42,7 @@ SCENES = {
     "cornell-classic": "scenes/cornell-classic.json",
     "cornell": "cornell",  # the default scene (a glossy block: symphong only, with --no-cycles)
 }
+CYCLES_SCENES = ["cornell-diffuse", "cornell-classic"]  # all diffuse: the ones Cycles renders as symphong does
 BEGIN, END = "<!-- efficiency-vs-cycles:begin -->", "<!-- efficiency-vs-cycles:end -->"
 
 
@@ -165,7 +166,8 @@ def main():
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--seeds", type=int, default=8)
     ap.add_argument("--threads", type=int, default=os.cpu_count())
-    ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--scenes", default=None,
+                    help=f"comma-separated, of {', '.join(SCENES)} (default: {','.join(CYCLES_SCENES)}, the ones Cycles can match)")
     ap.add_argument("--quick", action="store_true", help="64x64, 16 spp, 4 seeds")
     ap.add_argument("--write-doc", action="store_true", help="write the table into docs/performance.md")
     ap.add_argument("--no-cycles", action="store_true", help="symphong's variants alone (no Blender needed; any scene of --scenes)")
@@ -175,7 +177,7 @@ def main():
         args.size, args.spp, args.seeds = 64, 16, 4
     if args.seeds < 3:
         ap.error("--seeds must be at least 3 (the jackknife needs it)")
-    keys = args.scenes.split(",")
+    keys = (args.scenes or ",".join(CYCLES_SCENES)).split(",")
     for k in keys:
         if k not in SCENES:
             ap.error(f"--scenes: unknown scene '{k}' (known: {', '.join(SCENES)})")
