@@ -53,10 +53,6 @@ void Learning::add(const std::vector<Record>& records) {
     }
 }
 
-void Learning::add(const SumTable& other) {
-    for (std::size_t c = 0; c < sums_.size() && c < other.size(); ++c) add(c, other[c]);
-}
-
 void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples) {
     EpochMeasure m;
     m.cameraSamples = static_cast<double>(samples - std::min(samples, samplesAtStart));

@@ -73,6 +73,8 @@ struct Learning {
 
     /// The epoch's records so far, per section (ears.h Section) and cell of every level.
     const SumTable& sums() const { return sums_; }
+    /// The slots of sums() that hold records (a superset of the non-empty ones).
+    const CellSet& occupied() const { return occupied_; }
     /// Empties the sums (all sumCount() cells).
     void clearSums();
     /// Adds sums to one slot (section x Grid::cellCount() + cell): a checkpoint's, read back.
@@ -83,8 +85,6 @@ struct Learning {
     /// Adds records in order, their cells fetched into the cache a few records ahead (cells are scattered
     /// over megabytes: one add at a time would wait on memory for each).
     void add(const std::vector<Record>& records);
-    /// Adds another process's or thread's sums of the same epoch.
-    void add(const SumTable& other);
     /// Ends the epoch: the next one's factors from this one's sums (after a probe, the first hit's: the
     /// lesser of the probe's and epoch 0's at the end of epoch 0, then those for good), its cost per camera sample (from the
     /// render's rays and samples now) and its variance per camera sample, from the image's over all
