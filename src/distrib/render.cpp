@@ -60,14 +60,16 @@ void unpackTiles(RenderState& s, const int* tiles, int count, const std::vector<
     }
 }
 
-/// A message of T (MPI type `type`) from `from` with `tag`, whatever its length.
+/// A message of T (MPI type `type`: T's own, or MPI_BYTE for a struct sent as its bytes) from `from` with
+/// `tag`, whatever its length.
 template <class T>
 std::vector<T> receiveAll(int from, int tag, MPI_Datatype type) {
     MPI_Status status;
     MPI_Probe(from, tag, MPI_COMM_WORLD, &status);
-    int n = 0;
+    int n = 0, size = 0;
     MPI_Get_count(&status, type, &n);
-    std::vector<T> data(static_cast<std::size_t>(n));
+    MPI_Type_size(type, &size);
+    std::vector<T> data(static_cast<std::size_t>(n) * static_cast<std::size_t>(size) / sizeof(T));
     MPI_Recv(data.data(), n, type, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     return data;
 }
@@ -251,15 +253,8 @@ void gatherLearning(const MpiJob& job, RenderState& state) {
         MPI_Send(mine.data(), static_cast<int>(mine.size() * sizeof(SlotSums)), MPI_BYTE, 0, kTagLearning, MPI_COMM_WORLD);
         return;
     }
-    std::vector<SlotSums> other;
     for (int r = 1; r < job.size(); ++r) {
-        MPI_Status status;
-        MPI_Probe(r, kTagLearning, MPI_COMM_WORLD, &status);
-        int bytes = 0;
-        MPI_Get_count(&status, MPI_BYTE, &bytes);
-        other.resize(static_cast<std::size_t>(bytes) / sizeof(SlotSums));
-        MPI_Recv(other.data(), bytes, MPI_BYTE, r, kTagLearning, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        for (const SlotSums& s : other) {
+        for (const SlotSums& s : receiveAll<SlotSums>(r, kTagLearning, MPI_BYTE)) {
             if (s.slot >= sums.size())
                 throw std::runtime_error("rank " + std::to_string(r) + " sent EARS sums for slot " + std::to_string(s.slot) + " of " +
                                          std::to_string(sums.size()));

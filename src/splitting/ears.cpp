@@ -151,9 +151,6 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch) { return l
 
 namespace {
 
-/// Where a section's cells start in a SumTable (and in the CellSet of its occupied slots).
-std::size_t sectionStart(Section section) { return Grid::cellCount() * static_cast<std::size_t>(section); }
-
 /// Every cell's first-hit variance (ears::firstHitVariance; -1 where it has no estimate): only a cell
 /// with first-hit vertices has one, so only those are visited.
 std::vector<float> firstHitVariances(const SumTable& sums, const CellSet& occupied) {

@@ -213,6 +213,8 @@ CellSet occupiedCells(const SumTable& sums);
 ///    left out).
 enum class Section : std::uint8_t { Deeper = 0, FirstHit = 1, FirstHitVertex = 2 };
 inline constexpr int kSections = 3;
+/// The first slot of a section in the sums (and in a CellSet of them): cell c of it is slot start + c.
+inline std::size_t sectionStart(Section section) { return Grid::cellCount() * static_cast<std::size_t>(section); }
 
 /// What a render learned for an epoch: per cell sqrt(v / C_x) and sqrt(M / C_x) of the deeper vertices
 /// and the first hit's factor q (negative: too few records to say), and the scale sqrt(C / V) at the

@@ -31,7 +31,7 @@ struct Record {
     Record(std::uint32_t cell, double value, std::uint64_t rays, Section section)
         : value(value),
           rays(static_cast<std::uint32_t>(std::min<std::uint64_t>(rays, 0xffffffffu))),
-          slot(static_cast<std::uint32_t>(Grid::cellCount() * static_cast<std::size_t>(section) + cell)) {}
+          slot(static_cast<std::uint32_t>(sectionStart(section) + cell)) {}
 };
 static_assert(sizeof(Record) == 16);
 
