@@ -518,6 +518,28 @@ TEST(EarsRender, TheEndOfAnEpochCountsInTheRendersTime) {
     EXPECT_GT(state.cpuSeconds, cpuBefore);
 }
 
+// Issue 32's memory bound: the learned structure does not grow with the image (a 4K render holds what a
+// 16 x 12 one does, measured in docs/performance.md) and stays under 64 MiB. Its sums alone are the
+// table of kSections x Grid::cellCount() CellSums (a lower bound counted apart from bytes()).
+TEST(EarsRender, TheStructureIsTheSameSizeAtAnyImageSizeAndUnder64MiB) {
+    const Scene scene = makeCornellBox();
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    std::size_t bytes[2] = {0, 0};
+    const int widths[2] = {16, 96}, heights[2] = {12, 72};
+    for (int i = 0; i < 2; ++i) {
+        const RenderSettings rs = earsSettings(widths[i], heights[i], 16, 3);
+        RenderState state(widths[i], heights[i], 16);
+        renderSamples(scene, accel, *est, rs, state, 16);
+        ASSERT_TRUE(state.ears);
+        ASSERT_FALSE(state.ears->factors.empty());  // it learned: both sets of factors hold their buffers
+        bytes[i] = state.ears->bytes();
+    }
+    EXPECT_EQ(bytes[0], bytes[1]);
+    EXPECT_GE(bytes[0], static_cast<std::size_t>(ears::kSections) * ears::Grid::cellCount() * sizeof(ears::CellSums));
+    EXPECT_LE(bytes[0], std::size_t{64} << 20);
+}
+
 // The closed furnace (radiance Le / (1 - a) everywhere inside) with EARS's factors at every vertex: the
 // mean of 8 repeats within Student's t at the 4-sigma tail, and the render did learn and split. Under the
 // independent sampler (EARS's roulette as derived) and under sobol (its roulette floored at plain's).

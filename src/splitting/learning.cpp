@@ -25,6 +25,13 @@ void Learning::clearSums() {
     occupied_.clear();
 }
 
+std::size_t Learning::bytes() const {
+    const auto factorBytes = [](const Factors& f) {
+        return (f.varianceRatio.capacity() + f.momentRatio.capacity() + f.firstHit.capacity()) * sizeof(float);
+    };
+    return sums_.capacity() * sizeof(CellSums) + occupied_.capacity() / 8 + factorBytes(factors) + factorBytes(spare_);
+}
+
 void Learning::add(std::size_t slot, const CellSums& s) {
     if (s.empty()) return;
     sums_[slot].add(s);

@@ -96,6 +96,11 @@ struct Learning {
     /// empty for epoch 0, the epoch stays 0.
     void learnFromProbe(double variancePerSample, std::uint64_t rays, std::uint64_t samples);
 
+    /// The bytes the structure holds: the sums, the occupied set and the two sets of factors (the current
+    /// ones and the spare), by their capacities. The same for any image size (issue 32: <= 64 MiB at 4K);
+    /// each thread's record buffer (render/path_tracer.h PathScratch) comes on top.
+    std::size_t bytes() const;
+
 private:
     SumTable sums_;
     CellSet occupied_;  ///< the cells of sums_ that hold records: all an epoch's end visits
