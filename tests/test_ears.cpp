@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <optional>
@@ -535,6 +536,7 @@ TEST(EarsRender, TheStructureIsTheSameSizeAtAnyImageSizeAndUnder64MiB) {
         ASSERT_FALSE(state.ears->factors.empty());  // it learned: both sets of factors hold their buffers
         bytes[i] = state.ears->bytes();
     }
+    std::printf("the learned structure: %zu bytes\n", bytes[0]);
     EXPECT_EQ(bytes[0], bytes[1]);
     EXPECT_GE(bytes[0], static_cast<std::size_t>(ears::kSections) * ears::Grid::cellCount() * sizeof(ears::CellSums));
     EXPECT_LE(bytes[0], std::size_t{64} << 20);
