@@ -624,7 +624,7 @@ std::vector<std::string> studyScenes() {
 /// The image's mean luminance and its standard error (independent sampler: pixels are independent).
 std::pair<double, double> meanOf(const Scene& scene, const Accel& accel, SplittingMode splitting, double scale = 1) {
     // Seeds of their own: the two renders independent, as the z below assumes.
-    RenderSettings rs = earsSettings(40, 30, 128, splitting == SplittingMode::Ears ? 2025 : 2024, "independent");
+    RenderSettings rs = earsSettings(40, 30, 128, 2024 + static_cast<std::uint64_t>(splitting), "independent");
     rs.trace.splitting = splitting;
     const auto est = makeEstimator("phong");
     const auto [m, se] = test::imageMeanAndError(render(scene, accel, *est, rs));
@@ -653,6 +653,45 @@ TEST(EarsRender, MeanImageAgreesWithPhongOnEveryStudyScene) {
             EXPECT_GT(std::abs(mb - mp) / std::sqrt(sp * sp + sb * sb), 4.0) << "a 10% bias must be caught";
         }
     }
+}
+
+// --splitting ears-orbit (a first hit's 2, 4 or 8 continuations one symmetric orbit): unbiased on the scenes of
+// scripts/ears-study.sh, whose first hits split (the mean image against phong's, |z| < 4, as above; each copy
+// of an orbit has phong's density: SymmetricMix tests its chi-square copy by copy).
+TEST(EarsOrbitRender, MeanImageAgreesWithPhong) {
+    const std::string dir = SYMPHONG_SOURCE_DIR "/scenes/";
+    for (const std::string& name : {std::string("cornell"), dir + "cornell-glossy-100.json", dir + "regime/sky-n10.json",
+                                   dir + "regime/small-n10.json", dir + "regime/large-n100.json", dir + "regime/albedo-diffuse.json"}) {
+        const Scene scene = loadScene(name);
+        const Accel accel(scene);
+        const auto [mp, sp] = meanOf(scene, accel, SplittingMode::None);
+        const auto [mo, so] = meanOf(scene, accel, SplittingMode::EarsOrbit);
+        const double z = (mo - mp) / std::sqrt(sp * sp + so * so);
+        std::printf("%-28s phong %.5f +- %.5f  ears-orbit %.5f +- %.5f  z %+.2f\n", std::filesystem::path(name).filename().c_str(), mp, sp,
+                    mo, so, z);
+        EXPECT_LT(std::abs(z), 4.0) << name;
+    }
+}
+
+// ears-orbit is deterministic at any thread count, and its orbits are used: on sky-n10 (first hits split 8
+// ways) the image differs from ears's with the same seed.
+TEST(EarsOrbitRender, SameImageAtAnyThreadCountAndNotEarssImage) {
+    const Scene scene = loadScene(SYMPHONG_SOURCE_DIR "/scenes/regime/sky-n10.json");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    const auto run = [&](int threads, SplittingMode mode) {
+        RenderSettings rs = earsSettings(40, 24, 16, 5);
+        rs.trace.splitting = mode;
+        rs.threads = threads;
+        RenderState state(40, 24, 16);
+        renderSamples(scene, accel, *est, rs, state, 16);
+        return state;
+    };
+    const RenderState one = run(1, SplittingMode::EarsOrbit), two = run(2, SplittingMode::EarsOrbit);
+    EXPECT_TRUE(sameBits(one.image(), two.image()));
+    EXPECT_EQ(one.rays, two.rays);
+    EXPECT_GT(one.paths, one.samples);  // it split
+    EXPECT_FALSE(sameBits(one.image(), run(1, SplittingMode::Ears).image()));
 }
 
 // The same image, variance and learned factors at 1, 2 and 5 threads and in passes of 3, 7 and 16 samples
@@ -732,6 +771,10 @@ TEST(EarsCli, BadValuesAreRefusedWithExitCode2) {
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find("s.json"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("sometimes"), std::string::npos) << r.err;
+    // ears-orbit's copies have phong's density: another estimator is refused, naming it.
+    r = test::runCliArgs({"render", "--splitting", "ears-orbit", "-e", "cosine", "-o", tmp.file("d.png")});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("ears-orbit needs --estimator phong (got 'cosine')"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(tmp.file("a.png")) || std::filesystem::exists(tmp.file("b.png")) ||
-                 std::filesystem::exists(tmp.file("c.png")));
+                 std::filesystem::exists(tmp.file("c.png")) || std::filesystem::exists(tmp.file("d.png")));
 }

@@ -335,7 +335,7 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
         if (!tracer) tracer = makeTracer(scene, accel, estimator, settings, state);
         return renderSamples(*tracer, estimator, settings, state, upTo, progress);
     }
-    if (settings.trace.splitting != SplittingMode::Ears)
+    if (!learnsFactors(settings.trace.splitting))
         return renderSegmentDistributed(job, scene, accel, estimator, settings, state, upTo, progress, distributed, tracer);
     // --splitting ears: epoch by epoch, as renderSamples in one process. Rank 0, which holds the state,
     // says where each segment ends (0: no more); before it every rank gets rank 0's factors, after it rank

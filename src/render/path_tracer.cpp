@@ -1,5 +1,7 @@
 #include "render/path_tracer.h"
 
+#include "estimators/basic.h"
+#include "estimators/symmetric_mix.h"
 #include "math/frame.h"
 #include "scene/shading_normal.h"
 #include "scene/surface.h"
@@ -7,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace symphong {
 
@@ -44,7 +47,7 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       accel_(accel),
       estimator_(estimator),
       settings_(settings),
-      learning_(settings.splitting == SplittingMode::Ears ? learning : nullptr),
+      learning_(learnsFactors(settings.splitting) ? learning : nullptr),
       records_(records),
       areas_(triangleAreas(scene, geometricNormals_)),
       emitters_(scene, areas_, geometricNormals_, settings.nextEvent && estimator.combinesWithLightSampling()),
@@ -328,10 +331,17 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     std::uint64_t traced = 0;
     double sum = 0, squares = 0;  // of the continuations' luminances: the first hit's within-vertex variance
     const ears::Section section = depth == 0 ? ears::Section::FirstHit : ears::Section::Deeper;
+    std::optional<SymmetricMixEstimator::OrbitCopies> orbit;
+    if (depth == 0 && (n == 2 || n == 4 || n == 8) && settings_.splitting == SplittingMode::EarsOrbit) orbit.emplace(firstHitOrbit(sc, samples, n));
     for (std::uint32_t j = 0; j < n; ++j) {
         const std::uint64_t own = j == 0 ? path : SampleDimensions::splitPath(path, depth, j);
         dirs.clear();
-        if (depth == 0) {
+        if (orbit) {
+            // --splitting ears-orbit: continuation j is copy j of the vertex's orbit, with phong's density (the
+            // estimator's: settings refuse ears-orbit with another), so weighted and counted as an independent one.
+            const Vec3 wi = (*orbit)(static_cast<int>(j));
+            if (wi.z > 0) pushWeighted(sc, wi, SymmetricMixEstimator::directionDensity(sc, wi), dirs);
+        } else if (depth == 0) {
             // At the first hit continuation j reads block point j of its sample (SampleStream::blockContinuation)
             // at the first-hit estimator's dimensions: the vertex's n continuations are a net, and so is
             // continuation j over the pixel's camera samples.
@@ -366,6 +376,16 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     }
     if (traced > 1) pc.stats.extraPaths += traced - 1;
     return L;
+}
+
+// --splitting ears-orbit: a first hit's n continuations (n = 2, 4 or 8: firstHitBlock's powers of two) as one
+// orbit of R = n symmetric copies of one point (estimators/symmetric_mix.h), its point and family offset the
+// first-hit estimator's three dimensions of the camera sample (Sobol' dimensions 0-2 of one index under sobol).
+SymmetricMixEstimator::OrbitCopies PathTracer::firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n) const {
+    samples.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream));
+    const Vec3 u = samples.get3D();
+    const int orbit = static_cast<int>(n);
+    return SymmetricMixEstimator::OrbitCopies(*sc.material, sc.wo, SymmetricMixEstimator::makeOrbit({u.x, u.y}, u.z, orbit), orbit);
 }
 
 // Next-event estimation, the same for every emitter: one chosen in proportion to its power, a direction

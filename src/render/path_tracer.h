@@ -6,6 +6,7 @@
 
 #include "accel/accel.h"
 #include "estimators/estimator.h"
+#include "estimators/symmetric_mix.h"
 #include "lights/emitters.h"
 #include "math/frame.h"
 #include "scene/scene.h"
@@ -161,6 +162,8 @@ private:
     /// scratch.splitRecords (in cell `cell`, the vertex's finest) unless this is the render's last epoch. Continuation j >= 1 starts a
     /// path of its own (SampleDimensions::splitPath), and at the first hit reads the estimator as block
     /// point j of its sample (SampleStream::blockContinuation): no two calls in a pixel share a number.
+    /// --splitting ears-orbit: the orbit of n symmetric copies that a first hit's n continuations follow.
+    SymmetricMixEstimator::OrbitCopies firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n) const;
     Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
                              double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).

@@ -133,7 +133,7 @@ void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSe
                   std::atomic<std::uint64_t>* progress) {
     const CostClock clock(state);
     tracer.setRecords(recordsEpoch(state));
-    const bool learns = settings.trace.splitting == SplittingMode::Ears;
+    const bool learns = learnsFactors(settings.trace.splitting);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
     const CameraRays cameraRays(tracer.scene().camera, settings.width, settings.height);
@@ -206,14 +206,14 @@ namespace {
 
 /// Whether the render's probe is still to run (probeLearning).
 bool probeDue(const RenderSettings& settings, const RenderState& state) {
-    return settings.trace.splitting == SplittingMode::Ears && state.sppBound >= ears::kProbeMinSpp && state.ears && !state.ears->probed &&
+    return learnsFactors(settings.trace.splitting) && state.sppBound >= ears::kProbeMinSpp && state.ears && !state.ears->probed &&
            state.ears->epoch == 0 && state.samplesReached() == 0;
 }
 
 }  // namespace
 
 void probeLearning(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings, RenderState& state) {
-    if (settings.trace.splitting != SplittingMode::Ears || state.sppBound < ears::kProbeMinSpp) return;
+    if (!learnsFactors(settings.trace.splitting) || state.sppBound < ears::kProbeMinSpp) return;
     startLearning(scene, state);
     if (probeDue(settings, state)) probeWith(*makeTracer(scene, accel, estimator, settings, state), estimator, settings, state);
 }
@@ -287,7 +287,7 @@ bool endEpochIfDone(RenderState& state) {
 std::unique_ptr<PathTracer> makeTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, const RenderSettings& settings,
                                        RenderState& state) {
     const CostClock clock(state);
-    const bool learns = settings.trace.splitting == SplittingMode::Ears;
+    const bool learns = learnsFactors(settings.trace.splitting);
     if (learns) startLearning(scene, state);
     return std::make_unique<PathTracer>(scene, accel, estimator, traceSettings(estimator, settings), learns ? &*state.ears : nullptr,
                                         recordsEpoch(state));
@@ -295,7 +295,7 @@ std::unique_ptr<PathTracer> makeTracer(const Scene& scene, const Accel& accel, c
 
 void renderSamples(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
                    std::atomic<std::uint64_t>* progress) {
-    if (settings.trace.splitting != SplittingMode::Ears || settings.tiles) return traceSegment(tracer, estimator, settings, state, upTo, progress);
+    if (!learnsFactors(settings.trace.splitting) || settings.tiles) return traceSegment(tracer, estimator, settings, state, upTo, progress);
     // Epoch by epoch: every tile finishes one before the factors of the next are learned, all with the one
     // tracer (making one goes over every triangle: 0.2 s on a 2M-triangle mesh, which a tracer per epoch
     // paid seven times a render).

@@ -115,9 +115,10 @@ const schema::Schema<RenderOptions>& renderSchema() {
                       member(&RenderOptions::split))
                         .range(1, 64));
         s.push_back(F("splitting", "--splitting",
-                      "continuations per path vertex: none (one, Russian roulette by throughput) or ears (efficiency-aware Russian "
+                      "continuations per path vertex: none (one, Russian roulette by throughput), ears (efficiency-aware Russian "
                       "roulette and splitting, Rath et al. 2022: factors learned per region of the scene from the render's own "
-                      "earlier samples, at every vertex; docs/estimators.md)",
+                      "earlier samples, at every vertex; docs/estimators.md) or ears-orbit (the same, a first hit's 2, 4 or 8 "
+                      "continuations one orbit of symmetric copies, symmetric-mix's; needs --estimator phong)",
                       member(&RenderOptions::splitting))
                         .namedFrom(splittingNames)
                         .checkedBy(checkSplittingName));
@@ -167,11 +168,16 @@ void checkRenderOptions(const RenderOptions& o) {
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
     requireImageMemory(o.width, o.height);
     if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
-    if (o.splitting == "ears" && o.split > 1)
-        throw InputError(fmt::format("--split {} and --splitting ears: ears decides the first hit's splitting itself; give one of them",
-                                     o.split));
-    if (o.splitting == "ears" && o.jointFirstBounce)
-        throw InputError("--joint-first-bounce and --splitting ears: a split first hit reads sub-samples, which have no joint pattern");
+    if (o.splitting != "none" && o.split > 1)
+        throw InputError(fmt::format("--split {} and --splitting {}: ears decides the first hit's splitting itself; give one of them",
+                                     o.split, o.splitting));
+    if (o.splitting != "none" && o.jointFirstBounce)
+        throw InputError(fmt::format("--joint-first-bounce and --splitting {}: a split first hit reads sub-samples, which have no joint pattern",
+                                     o.splitting));
+    if (o.splitting == "ears-orbit" && o.estimator != "phong")
+        throw InputError(fmt::format("--splitting ears-orbit needs --estimator phong (got '{}'): the orbit's copies have phong's density, "
+                                     "which the light-sampling weights at the vertex assume",
+                                     o.estimator));
 }
 
 StopRules stopRules(const RenderOptions& o) {

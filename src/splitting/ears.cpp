@@ -9,13 +9,14 @@
 namespace symphong {
 
 const std::vector<std::string>& splittingNames() {
-    static const std::vector<std::string> names = {"none", "ears"};
+    static const std::vector<std::string> names = {"none", "ears", "ears-orbit"};
     return names;
 }
 
 SplittingMode splittingMode(const std::string& name) {
     if (name == "none") return SplittingMode::None;
     if (name == "ears") return SplittingMode::Ears;
+    if (name == "ears-orbit") return SplittingMode::EarsOrbit;
     throw std::invalid_argument(fmt::format("unknown splitting '{}' (valid: {})", name, fmt::join(splittingNames(), ", ")));
 }
 

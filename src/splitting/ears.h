@@ -23,11 +23,15 @@ namespace symphong {
 
 /// How a path vertex decides how many continuations it gets.
 enum class SplittingMode {
-    None,  ///< one continuation, Russian roulette by throughput (render/path_tracer.h), --split at the first hit
-    Ears,  ///< the learned factor of this file at every vertex
+    None,       ///< one continuation, Russian roulette by throughput (render/path_tracer.h), --split at the first hit
+    Ears,       ///< the learned factor of this file at every vertex; continuations are independent directions
+    EarsOrbit,  ///< the same factors; a first hit's n = 2, 4 or 8 continuations are one symmetric orbit of R = n copies
 };
 
-/// "none", "ears": the names `--splitting` takes, in the order --help lists them.
+/// Whether the mode learns factors (every mode but None).
+inline bool learnsFactors(SplittingMode m) { return m != SplittingMode::None; }
+
+/// "none", "ears", "ears-orbit": the names `--splitting` takes, in the order --help lists them.
 const std::vector<std::string>& splittingNames();
 /// The mode of a name; throws std::invalid_argument "unknown splitting 'x' (valid: none, ears)".
 SplittingMode splittingMode(const std::string& name);

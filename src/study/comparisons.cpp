@@ -40,6 +40,13 @@ std::vector<VariantPair> studyComparisons(const std::vector<StudyVariant>& varia
         if (isCandidate(v) && v.pathsPerSample > 1)
             if (const StudyVariant* ys = yardstickFor(variants, v, v.pathsPerSample))
                 pairs.push_back({v.label, ys->label, true, v.pathsPerSample});
+        // ears-orbit against ears (the same estimator and sampler): symmetric copies against independent directions.
+        if (v.splitting == SplittingMode::EarsOrbit)
+            for (const StudyVariant& w : variants)
+                if (w.splitting == SplittingMode::Ears && w.estimator == v.estimator && w.sampler == v.sampler) {
+                    pairs.push_back({v.label, w.label, false, 0});
+                    break;
+                }
     }
     out.insert(out.end(), pairs.begin(), pairs.end());
     return out;

@@ -26,7 +26,8 @@ struct VariantPair {
 
 /// The answer's comparisons among `variants`, in their order: each against the yardstick under the same
 /// sampler (the yardstick itself not), then the fair pairs of candidates with more than one path per camera
-/// sample; a candidate with one path per camera sample has its comparison with the yardstick marked fair.
+/// sample; a candidate with one path per camera sample has its comparison with the yardstick marked fair;
+/// an ears-orbit variant against its ears variant.
 std::vector<VariantPair> studyComparisons(const std::vector<StudyVariant>& variants);
 
 /// Which measure of the rows a ratio uses: 1/(MSE x cost) or 1/(relMSE x cost).

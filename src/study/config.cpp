@@ -55,8 +55,9 @@ void addSplitFields(schema::Schema<StudyOptions>& s) {
                   schema::member(&O::splitEstimators))
                     .listOfNames());
     s.push_back(F("splittings", "--splittings",
-                  "none and/or ears, comma-separated: with ears, every estimator of --split-estimators also renders with "
-                  "render --splitting ears (a variant '+ears': Russian roulette and splitting learned from its own samples)",
+                  "none, ears and/or ears-orbit, comma-separated: with ears, every estimator of --split-estimators also renders "
+                  "with render --splitting ears (a variant '+ears': Russian roulette and splitting learned from its own samples); "
+                  "with ears-orbit, phong (if among them) with --splitting ears-orbit ('+ears-orbit', compared with '+ears' too)",
                   schema::member(&O::splittings))
                     .listOfNames());
 }

@@ -81,15 +81,18 @@ std::vector<StudyVariant> studyVariants(const StudyConfig& c) {
                         if (c.samplers.size() > 1 && probe->requiredSampler().empty()) v.label += "@" + v.sampler;
                         if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == v.label; }))
                             out.push_back(v);
-                        // --splittings ears: the unsplit one-direction variants of --split-estimators once more, learning.
-                        const bool ears = std::find(c.splittings.begin(), c.splittings.end(), "ears") != c.splittings.end() &&
-                                          std::find(c.splitEstimators.begin(), c.splitEstimators.end(), e) != c.splitEstimators.end();
-                        if (ears && split == 1 && !made->returnsSets()) {
+                        // --splittings ears, ears-orbit: the unsplit one-direction variants of --split-estimators once more,
+                        // learning (ears-orbit only for phong, whose density its orbits have).
+                        const bool splits = std::find(c.splitEstimators.begin(), c.splitEstimators.end(), e) != c.splitEstimators.end();
+                        for (const std::string& name : c.splittings) {
+                            const SplittingMode mode = splittingMode(name);
+                            if (!learnsFactors(mode) || !splits || split != 1 || made->returnsSets()) continue;
+                            if (mode == SplittingMode::EarsOrbit && e != "phong") continue;
                             StudyVariant w = v;
-                            w.splitting = SplittingMode::Ears;
+                            w.splitting = mode;
                             w.pathsPerSample = 0;  // it varies from vertex to vertex
                             const std::size_t at = v.label.find('@');
-                            w.label = v.label.substr(0, at) + "+ears" + (at == std::string::npos ? "" : v.label.substr(at));
+                            w.label = v.label.substr(0, at) + "+" + name + (at == std::string::npos ? "" : v.label.substr(at));
                             if (std::none_of(out.begin(), out.end(), [&](const StudyVariant& o) { return o.label == w.label; }))
                                 out.push_back(w);
                         }

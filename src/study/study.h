@@ -40,8 +40,9 @@ struct StudyConfig {
     /// estimators), so a split estimator is compared with others split the same way.
     std::vector<int> splits;
     std::vector<std::string> splitEstimators = {"phong", "symmetric-mix"};
-    /// --splittings: "none" and/or "ears"; with ears, every estimator of splitEstimators (that takes one
-    /// direction per call) also runs with --splitting ears, a variant "+ears".
+    /// --splittings: "none", "ears" and/or "ears-orbit"; with ears, every estimator of splitEstimators (that
+    /// takes one direction per call) also runs with --splitting ears, a variant "+ears"; with ears-orbit,
+    /// phong among them with --splitting ears-orbit, "+ears-orbit".
     std::vector<std::string> splittings = {"none"};
     /// Variance budget: this many pairs of renders of each variant at the top spp that differ only in the
     /// first bounce's random numbers (TraceSettings::firstBounceStream); half their squared difference,
@@ -93,7 +94,7 @@ struct StudyVariant {
     /// Paths each camera sample starts: split K, an orbit of R traced together (branch), or 1; 0 where it
     /// varies from hit to hit (the branch mode of the other set estimators). Fair pairs have equal counts.
     int pathsPerSample = 1;
-    SplittingMode splitting = SplittingMode::None;  ///< "+ears": render --splitting ears
+    SplittingMode splitting = SplittingMode::None;  ///< "+ears", "+ears-orbit": render --splitting ears, ears-orbit
 };
 
 /// The variants of a configuration, estimator by estimator, in the order of the lists, without duplicates.
