@@ -332,7 +332,8 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     double sum = 0, squares = 0;  // of the continuations' luminances: the first hit's within-vertex variance
     const ears::Section section = depth == 0 ? ears::Section::FirstHit : ears::Section::Deeper;
     std::optional<SymmetricMixEstimator::OrbitCopies> orbit;
-    if (depth == 0 && (n == 2 || n == 4 || n == 8) && settings_.splitting == SplittingMode::EarsOrbit) orbit.emplace(firstHitOrbit(sc, samples, n));
+    if (depth == 0 && (n == 2 || n == 4 || n == 8) && settings_.splitting == SplittingMode::EarsOrbit)
+        orbit.emplace(firstHitOrbit(sc, samples, n));
     for (std::uint32_t j = 0; j < n; ++j) {
         const std::uint64_t own = j == 0 ? path : SampleDimensions::splitPath(path, depth, j);
         dirs.clear();

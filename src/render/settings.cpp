@@ -172,12 +172,13 @@ void checkRenderOptions(const RenderOptions& o) {
         throw InputError(fmt::format("--split {} and --splitting {}: ears decides the first hit's splitting itself; give one of them",
                                      o.split, o.splitting));
     if (o.splitting != "none" && o.jointFirstBounce)
-        throw InputError(fmt::format("--joint-first-bounce and --splitting {}: a split first hit reads sub-samples, which have no joint pattern",
-                                     o.splitting));
+        throw InputError(fmt::format(
+            "--joint-first-bounce and --splitting {}: a split first hit reads sub-samples, which have no joint pattern", o.splitting));
     if (o.splitting == "ears-orbit" && o.estimator != "phong")
-        throw InputError(fmt::format("--splitting ears-orbit needs --estimator phong (got '{}'): the orbit's copies have phong's density, "
-                                     "which the light-sampling weights at the vertex assume",
-                                     o.estimator));
+        throw InputError(
+            fmt::format("--splitting ears-orbit needs --estimator phong (got '{}'): the orbit's copies have phong's density, "
+                        "which the light-sampling weights at the vertex assume",
+                        o.estimator));
 }
 
 StopRules stopRules(const RenderOptions& o) {
