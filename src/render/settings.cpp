@@ -168,13 +168,14 @@ void checkRenderOptions(const RenderOptions& o) {
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
     requireImageMemory(o.width, o.height);
     if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
-    if (o.splitting != "none" && o.split > 1)
+    const SplittingMode splitting = splittingMode(o.splitting);  // a name the schema checked
+    if (learnsFactors(splitting) && o.split > 1)
         throw InputError(fmt::format("--split {} and --splitting {}: ears decides the first hit's splitting itself; give one of them",
                                      o.split, o.splitting));
-    if (o.splitting != "none" && o.jointFirstBounce)
+    if (learnsFactors(splitting) && o.jointFirstBounce)
         throw InputError(fmt::format(
             "--joint-first-bounce and --splitting {}: a split first hit reads sub-samples, which have no joint pattern", o.splitting));
-    if (o.splitting == "ears-orbit" && o.estimator != "phong")
+    if (splitting == SplittingMode::EarsOrbit && o.estimator != "phong")
         throw InputError(
             fmt::format("--splitting ears-orbit needs --estimator phong (got '{}'): the orbit's copies have phong's density, "
                         "which the light-sampling weights at the vertex assume",

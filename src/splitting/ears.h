@@ -33,7 +33,7 @@ inline bool learnsFactors(SplittingMode m) { return m != SplittingMode::None; }
 
 /// "none", "ears", "ears-orbit": the names `--splitting` takes, in the order --help lists them.
 const std::vector<std::string>& splittingNames();
-/// The mode of a name; throws std::invalid_argument "unknown splitting 'x' (valid: none, ears)".
+/// The mode of a name; throws std::invalid_argument "unknown splitting 'x' (valid: none, ears, ears-orbit)".
 SplittingMode splittingMode(const std::string& name);
 void checkSplittingName(const std::string& name);
 
