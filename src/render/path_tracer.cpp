@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 namespace symphong {
 
@@ -40,6 +39,11 @@ double powerHeuristic(double a, double b) {
 }
 
 }  // namespace
+
+Color DirectLight::value(double misScale) const {
+    if (weighted) return unweighted;
+    return unweighted * (cosine * powerHeuristic(lightPdf, estimatorPdf * misScale) / lightPdf);
+}
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings,
                        const ears::Learning* learning, bool records)
@@ -183,13 +187,15 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const ShadingContext sc{wo, &mat, depth, depth == 0};
     SampleStream& samples = pc.samples;
     const std::uint64_t vertexDim = SampleDimensions::vertex(depth, path);
-    // --splitting ears decides the vertex's continuations before light sampling, whose MIS weight needs q.
-    const double q = learning_ ? continuationFactor(cell, throughput, depth) : 0.0;
+    DirectLight direct;
     if (lightSampling_) {
         samples.setDimension(vertexDim + SampleDimensions::kLight);
-        const double misScale = q > 0 ? q : depth == 0 ? settings_.firstHitSplit : 1;
-        L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats, shadowed, misScale);
+        direct = directLight(p, ng, frame, sc, samples.get2D(), pc.stats, shadowed);
     }
+    // --splitting ears decides the vertex's continuations after the shadow ray (its factor's cache line has
+    // arrived by then) and before light sampling's MIS weight, which needs q.
+    const double q = learning_ ? continuationFactor(cell, throughput, depth) : 0.0;
+    if (lightSampling_) L += direct.value(q > 0 ? q : depth == 0 ? settings_.firstHitSplit : 1);
     if (q > 0) return L + splitContinuations(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
     return L + continuePath(sc, frame, ng, p, shadowed, depth, path, throughput, pc);
 }
@@ -331,16 +337,15 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     std::uint64_t traced = 0;
     double sum = 0, squares = 0;  // of the continuations' luminances: the first hit's within-vertex variance
     const ears::Section section = depth == 0 ? ears::Section::FirstHit : ears::Section::Deeper;
-    std::optional<SymmetricMixEstimator::OrbitCopies> orbit;
-    if (depth == 0 && (n == 2 || n == 4 || n == 8) && settings_.splitting == SplittingMode::EarsOrbit)
-        orbit.emplace(firstHitOrbit(sc, samples, n));
+    const bool orbit = depth == 0 && (n == 2 || n == 4 || n == 8) && settings_.splitting == SplittingMode::EarsOrbit;
+    if (orbit) firstHitOrbit(sc, samples, n, pc.scratch.orbit);
     for (std::uint32_t j = 0; j < n; ++j) {
         const std::uint64_t own = j == 0 ? path : SampleDimensions::splitPath(path, depth, j);
         dirs.clear();
         if (orbit) {
             // --splitting ears-orbit: continuation j is copy j of the vertex's orbit, with phong's density (the
             // estimator's: settings refuse ears-orbit with another), so weighted and counted as an independent one.
-            const Vec3 wi = (*orbit)(static_cast<int>(j));
+            const Vec3& wi = pc.scratch.orbit[j];
             if (wi.z > 0) pushWeighted(sc, wi, SymmetricMixEstimator::directionDensity(sc, wi), dirs);
         } else if (depth == 0) {
             // At the first hit continuation j reads block point j of its sample (SampleStream::blockContinuation)
@@ -382,32 +387,41 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
 // --splitting ears-orbit: a first hit's n continuations (n = 2, 4 or 8: firstHitBlock's powers of two) as one
 // orbit of R = n symmetric copies of one point (estimators/symmetric_mix.h), its point and family offset the
 // first-hit estimator's three dimensions of the camera sample (Sobol' dimensions 0-2 of one index under sobol).
-SymmetricMixEstimator::OrbitCopies PathTracer::firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n) const {
+void PathTracer::firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n, std::array<Vec3, 8>& copies) const {
     samples.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream));
     const Vec3 u = samples.get3D();
     const int orbit = static_cast<int>(n);
-    return SymmetricMixEstimator::OrbitCopies(*sc.material, sc.wo, SymmetricMixEstimator::makeOrbit({u.x, u.y}, u.z, orbit), orbit);
+    SymmetricMixEstimator::OrbitCopies orbitCopies(*sc.material, sc.wo, SymmetricMixEstimator::makeOrbit({u.x, u.y}, u.z, orbit), orbit);
+    for (int j = 0; j < orbit; ++j) copies[static_cast<std::size_t>(j)] = orbitCopies(j);
 }
 
 // Next-event estimation, the same for every emitter: one chosen in proportion to its power, a direction
 // towards it, the shadow ray, and f cos / p weighted against the estimator by the power heuristic (a
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
-Color PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
-                              bool shadowed, double misScale) const {
+DirectLight PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
+                                    bool shadowed) const {
+    DirectLight out;
     EmitterSample s;
-    if (!emitters_.sample(p, u, s) || dot(s.wi, ng) <= 0) return Color(0.0);
+    if (!emitters_.sample(p, u, s) || dot(s.wi, ng) <= 0) return out;
     const Vec3 wiLocal = frame.toLocal(s.wi);
-    if (wiLocal.z <= 0) return Color(0.0);
+    if (wiLocal.z <= 0) return out;
     const Color f = evalPhong(*sc.material, sc.wo, wiLocal) * (shadowed ? bumpShadowing(ng, frame.n, s.wi) : 1.0);
-    if (isBlack(f)) return Color(0.0);
+    if (isBlack(f)) return out;
     const Vec3 origin = p + ng * epsilon_;
     ++stats.rays;
     const bool blocked = s.toInfinity ? accel_.occluded(origin, s.wi, 0.0, std::numeric_limits<double>::infinity())
                                       : accel_.occluded(origin, s.target - origin, 0.0, 1.0 - 1e-5);
-    if (blocked) return Color(0.0);
-    if (s.delta) return f * s.radiance * (wiLocal.z / s.pdf);
-    const double w = powerHeuristic(s.pdf, estimator_.misPdf(sc, wiLocal) * misScale);
-    return f * (s.radianceLater ? emitters_.background().backgroundRadiance(s.wi) : s.radiance) * (wiLocal.z * w / s.pdf);
+    if (blocked) return out;
+    if (s.delta) {
+        out.unweighted = f * s.radiance * (wiLocal.z / s.pdf);
+        return out;
+    }
+    out.unweighted = f * (s.radianceLater ? emitters_.background().backgroundRadiance(s.wi) : s.radiance);
+    out.cosine = wiLocal.z;
+    out.lightPdf = s.pdf;
+    out.estimatorPdf = estimator_.misPdf(sc, wiLocal);
+    out.weighted = false;
+    return out;
 }
 
 Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {

@@ -14,6 +14,7 @@
 #include "splitting/learning.h"
 #include "util/cache_line.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -101,12 +102,27 @@ struct RayBundle {
     std::size_t capacity = 0;    ///< length of `found`
 };
 
+/// Next-event estimation's contribution at a vertex before its MIS weight (PathTracer::directLight).
+struct DirectLight {
+    Color unweighted{0.0};     ///< f L (delta emitter or no MIS: the whole contribution)
+    double cosine = 0;         ///< cos theta of the light's direction
+    double lightPdf = 0;       ///< the light sample's density (solid angle)
+    double estimatorPdf = 0;   ///< the estimator's MIS density of that direction for one call
+    bool weighted = true;      ///< `unweighted` is the contribution: nothing to weigh
+
+    /// The contribution with MIS against `misScale` estimator calls at the vertex (the first hit's split
+    /// count k, EARS's q, else 1): f L cos w / p, w the power heuristic of the light's density against the
+    /// density of all of those calls together.
+    Color value(double misScale) const;
+};
+
 /// Per-thread working memory of the path tracer.
 struct PathScratch {
     CacheLineVector<DirectionList> directions;  ///< one buffer per depth (each alone on its cache lines: util/cache_line.h)
     CacheLineVector<RayBundle> bundles;         ///< one per depth
     CacheLineVector<PhongMaterial> materials;   ///< one per depth: a textured material's parameters at its vertex
     std::vector<ears::Record> splitRecords;     ///< --splitting ears: the continuations traced since the caller last took them
+    std::array<Vec3, 8> orbit;                  ///< --splitting ears-orbit: the first hit's copies (PathTracer::firstHitOrbit)
 };
 
 class PathTracer {
@@ -162,8 +178,10 @@ private:
     /// scratch.splitRecords (in cell `cell`, the vertex's finest) unless this is the render's last epoch. Continuation j >= 1 starts a
     /// path of its own (SampleDimensions::splitPath), and at the first hit reads the estimator as block
     /// point j of its sample (SampleStream::blockContinuation): no two calls in a pixel share a number.
-    /// --splitting ears-orbit: the orbit of n symmetric copies that a first hit's n continuations follow.
-    SymmetricMixEstimator::OrbitCopies firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n) const;
+    /// --splitting ears-orbit: the orbit of n symmetric copies that a first hit's n continuations follow, copy
+    /// j in copies[j] (in the scratch, not in splitContinuations' frame: a local orbit there, even unused,
+    /// was zeroed on every call, 6% of an EARS render's time in that function).
+    void firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n, std::array<Vec3, 8>& copies) const;
     Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
                              double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
@@ -172,10 +190,11 @@ private:
     /// (the same for every kind of emitter), its shadow ray, and the power heuristic against the
     /// estimator's density (none for a delta emitter, which no path can hit).
     /// `shadowed`: the BRDF times bumpShadowing (--bump-shadowing at a bent normal).
-    /// `misScale`: the expected number of estimator calls at this vertex (the first hit's split count
-    /// k, EARS's q, else 1): MIS weighs light sampling against the density of all of them together.
-    Color directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
-                      bool shadowed, double misScale) const;
+    /// Traced before the vertex's continuations are decided: its MIS weight waits for their number
+    /// (DirectLight::value), so that --splitting ears looks its factor up after the shadow ray, whose
+    /// traversal hides the wait for the factor's cache line.
+    DirectLight directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
+                            bool shadowed) const;
     /// Radiance of a ray that left the scene along d: the background (MIS-weighted against its light
     /// sampling from the previous vertex when it is light-sampled).
     Color escaped(const Vec3& d, int depth, double prevMisPdf) const;
