@@ -164,6 +164,64 @@ TEST(Schema, AStudysSettingsInResultsJsonGiveItsConfigurationBack) {
     EXPECT_FALSE(back.plots);
 }
 
+// report.md's "Command:" (schema::commandLine through studyCommandLine): read back as a shell would split
+// it and parsed by the study's own command line, it gives every setting of the study (results.json's
+// settings, compared whole), including those the report used to leave out (--splittings, --max-repeats,
+// --seed, --reference-spp) and a directory a shell must be given in quotes.
+TEST(Schema, AStudysCommandLineInItsReportGivesItsSettingsBack) {
+    const auto shellWords = [](const std::string& line) {
+        std::vector<std::string> words;
+        std::string word;
+        bool quoted = false, any = false;
+        for (std::size_t i = 0; i < line.size(); ++i) {
+            const char ch = line[i];
+            if (ch == '\'') {
+                quoted = !quoted, any = true;
+            } else if (!quoted && ch == '\\' && i + 1 < line.size()) {
+                word += line[++i], any = true;
+            } else if (!quoted && ch == ' ') {
+                if (any) words.push_back(word);
+                word.clear(), any = false;
+            } else {
+                word += ch, any = true;
+            }
+        }
+        if (any) words.push_back(word);
+        return words;
+    };
+    StudyConfig c;
+    c.scene = "scenes/cornell-glossy-100.json";
+    c.estimators = {"phong"};
+    c.spps = {16, 64};
+    c.splitEstimators = {"phong"};
+    c.splittings = {"none", "ears", "ears-orbit"};
+    c.repeats = 6;
+    c.targetInterval = 0.1;
+    c.maxRepeats = 30;
+    c.timeLimit = 40;
+    c.width = 128, c.height = 96;
+    c.seed = 7;
+    c.referenceSpp = 1024;
+    c.outDir = "/tmp/it's a study";
+    c.plots = false;
+    const std::string line = studyCommandLine(c);
+    for (const char* flag : {"--splittings none,ears,ears-orbit", "--max-repeats 30", "--seed 7", "--reference-spp 1024", "--no-plots"})
+        EXPECT_NE(line.find(flag), std::string::npos) << flag << " missing from: " << line;
+    std::vector<std::string> args = shellWords(line);
+    std::reverse(args.begin(), args.end());  // CLI11 takes a vector in reverse order
+    CLI::App app;
+    StudyOptions o;
+    addSchemaOptions(&app, o, studySchema());
+    app.parse(args);
+    const StudyConfig back = toStudyConfig(o, true);
+    EXPECT_EQ(back.outDir, c.outDir);
+    EXPECT_EQ(studySettingsJson(back), studySettingsJson(c)) << line;
+    // The defaults give the scene, the lists and the size alone.
+    EXPECT_EQ(studyCommandLine(StudyConfig{}),
+              " cornell --estimators cosine,stratified,phong,symmetric,symmetric-shifted,paper --samplers sobol --symmetric-modes branch "
+              "--spp 1,4,16,64 --repeats 4 --width 128 --height 128");
+}
+
 TEST(Schema, ASceneFilesRenderSettingsApplyUnderTheUsersOwn) {
     const auto dir = std::filesystem::temp_directory_path() / ("symphong-schema-scene-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);

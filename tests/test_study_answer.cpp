@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -72,6 +74,73 @@ TEST(StudyAnswer, MostEfficientLinesQuoteTheRatiosOfTheirOwnMeasure) {
     EXPECT_NEAR(lines["MSE"].factors[0].point, (2.0 * 1.2) / (1.0 * 2.0), 0.05);
     EXPECT_NEAR(lines["relMSE"].factors[0].point, 3.6, 0.05);
     EXPECT_NEAR(lines["relMSE"].factors[1].point, 4.0, 0.05);
+}
+
+// study/answer.cpp earsLine: a study with --splittings none,ears,ears-orbit says in one line whether learning
+// pays: each learned variant against plain `phong`, and the orbit against independent directions, with the
+// factors computed again here by the definition (answer_factors.h). By hand (cost-weighted MSE): ears 0.48
+// against phong's 1: 2.1x, ahead; the orbit 0.75: 1.3x phong, ahead, and 0.64x ears, behind. Both learned
+// variants ahead of plain tracing: "Yes". A study without them has no such line.
+TEST(StudyAnswer, EarsLineQuotesEachLearnedVariantAndTheOrbitAgainstIndependentDirections) {
+    StudyConfig c;
+    c.estimators = {"phong"};
+    c.splittings = {"none", "ears", "ears-orbit"};
+    c.splitEstimators = {"phong"};
+    c.spps = {16};
+    c.repeats = 3;
+    struct Numbers {
+        double mse[3], cost[3];
+    };
+    const std::map<std::string, Numbers> numbers = {
+        {"phong", {{1, 1.1, 0.9}, {1, 1.02, 0.98}}},
+        {"phong+ears", {{0.4, 0.42, 0.38}, {1.2, 1.21, 1.19}}},
+        {"phong+ears-orbit", {{0.6, 0.63, 0.58}, {1.25, 1.24, 1.26}}},
+    };
+    std::vector<StudyRow> rows;
+    std::map<std::string, std::vector<answer_factors::Sample>> samples;
+    for (const StudyVariant& v : studyVariants(c)) {
+        ASSERT_TRUE(numbers.count(v.label)) << "unexpected variant " << v.label;
+        for (int i = 0; i < 3; ++i) {
+            const Numbers& n = numbers.at(v.label);
+            StudyRow r;
+            r.estimator = v.estimator, r.variant = v.label, r.sampler = v.sampler, r.mode = "branch";
+            r.spp = 16, r.repeat = i, r.width = r.height = 8;
+            r.mse = r.relMse = n.mse[i], r.cost = r.cpuSeconds = r.seconds = n.cost[i];
+            r.rmse = std::sqrt(r.mse);
+            r.efficiency = r.efficiencyRel = 1 / (r.mse * r.cost);
+            rows.push_back(r);
+            samples[v.label].push_back({i, n.mse[i], n.cost[i]});
+        }
+    }
+    ASSERT_EQ(samples.size(), 3u);
+    const std::vector<std::string> answer = studyAnswer(c, rows, summarizeStudy(rows));
+    const auto line = std::find_if(answer.begin(), answer.end(),
+                                   [](const std::string& l) { return l.rfind("**Does efficiency-aware splitting pay?**", 0) == 0; });
+    ASSERT_NE(line, answer.end()) << ::testing::PrintToString(answer);
+    EXPECT_EQ(line->rfind("**Does efficiency-aware splitting pay?** Yes: ", 0), 0u) << *line;
+    static const std::regex part(R"(`([^`]+)` against `([^`]+)` \*\*([a-z ]+)\*\*, ([0-9.]+)x \[([0-9.]+), ([0-9.]+)\])");
+    std::map<std::pair<std::string, std::string>, std::pair<std::string, answer_factors::Quoted>> quoted;
+    for (std::sregex_iterator it(line->begin(), line->end(), part), end; it != end; ++it)
+        quoted[{(*it)[1], (*it)[2]}] = {(*it)[3], {(*it)[2], std::stod((*it)[4]), std::stod((*it)[5]), std::stod((*it)[6])}};
+    const std::map<std::pair<std::string, std::string>, std::string> expected = {
+        {{"phong+ears", "phong"}, "ahead"}, {{"phong+ears-orbit", "phong"}, "ahead"}, {{"phong+ears-orbit", "phong+ears"}, "behind"}};
+    ASSERT_EQ(quoted.size(), expected.size()) << *line;
+    for (const auto& [pair, verdict] : expected) {
+        ASSERT_TRUE(quoted.count(pair)) << pair.first << " against " << pair.second << " missing: " << *line;
+        EXPECT_EQ(quoted[pair].first, verdict) << *line;
+        answer_factors::expectQuotes(quoted[pair].second, answer_factors::ratio(samples.at(pair.first), samples.at(pair.second)),
+                                     pair.first + " against " + pair.second);
+    }
+    const double earsPoint = quoted[{"phong+ears", "phong"}].second.point, orbitPoint = quoted[{"phong+ears-orbit", "phong+ears"}].second.point;
+    EXPECT_NEAR(earsPoint, 1.0 / (0.4 * 1.2), 0.1);
+    EXPECT_NEAR(orbitPoint, (0.4 * 1.2) / (0.6033 * 1.25), 0.02);
+
+    c.splittings = {"none"};
+    std::vector<StudyRow> plain;
+    for (const StudyRow& r : rows)
+        if (r.variant == "phong") plain.push_back(r);
+    for (const std::string& l : studyAnswer(c, plain, summarizeStudy(plain)))
+        EXPECT_EQ(l.find("efficiency-aware"), std::string::npos) << l;
 }
 
 }  // namespace

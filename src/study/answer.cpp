@@ -114,6 +114,36 @@ std::string paysLine(const std::vector<PairResult>& pairs) {
         word, ahead, behind, 100 * kEqualBand, equal, open > 0 ? fmt::format(", not resolved in {}", open) : std::string(), pairs.size());
 }
 
+/// "Does efficiency-aware splitting pay?": each variant that learns factors (`--splittings ears,ears-orbit`)
+/// against its comparison (plain `phong` under its sampler), then `+ears-orbit` against `+ears` (symmetric
+/// copies against independent directions, studyComparisons); empty when the study has no such variant.
+std::string earsLine(const StudyConfig& c, const std::vector<StudyRow>& rows, std::uint32_t top) {
+    const std::vector<StudyVariant> variants = studyVariants(c);
+    std::vector<std::string> parts;
+    // The verdict word, as paysLine's, from the learned variants against plain tracing (not ears-orbit against ears).
+    int ahead = 0, behind = 0, equal = 0;
+    for (const VariantPair& cmp : studyComparisons(variants)) {
+        const auto learns = [&](const std::string& label) {
+            return std::any_of(variants.begin(), variants.end(), [&](const StudyVariant& x) { return x.label == label && learnsFactors(x.splitting); });
+        };
+        if (!learns(cmp.variant)) continue;
+        const auto r = compareVariants(rows, cmp.variant, cmp.against, top);
+        if (r && !learns(cmp.against)) {
+            const Verdict verdict = verdictOf(*r);
+            ahead += verdict == Verdict::Ahead, behind += verdict == Verdict::Behind, equal += verdict == Verdict::Equal;
+        }
+        parts.push_back(fmt::format("`{}` against `{}` {}", cmp.variant, cmp.against,
+                                    r ? fmt::format("**{}**, {}", verdictName(verdictOf(*r)), intervalText(*r)) : "(no common repeats)"));
+    }
+    if (parts.empty()) return {};
+    const char* word = ahead > 0 && behind == 0 ? "Yes"
+                       : behind > 0 && ahead == 0 ? "No"
+                       : ahead > 0 && behind > 0 ? "Sometimes"
+                       : equal > 0               ? "No gain"
+                                                 : "Not resolved";
+    return fmt::format("**Does efficiency-aware splitting pay?** {}: {}.", word, fmt::join(parts, "; "));
+}
+
 std::string pairLine(const PairResult& p) {
     const std::string paths = p.cmp.paths == 1 ? "one path per camera sample" : fmt::format("{} paths per camera sample", p.cmp.paths);
     if (!p.ratio) return fmt::format("`{}` against `{}` ({}): no common repeats.", p.cmp.variant, p.cmp.against, paths);
@@ -180,11 +210,12 @@ std::vector<std::string> studyAnswer(const StudyConfig& c, const std::vector<Stu
     if (summary.empty()) return {"No results."};
     const std::vector<PairResult> pairs = fairPairs(c, rows, topSpp(summary));
     std::vector<std::string> lines;
-    for (const std::string& l : {mostEfficientLine(c, rows, summary, false), mostEfficientLine(c, rows, summary, true), paysLine(pairs)})
+    const std::string byMse = mostEfficientLine(c, rows, summary, false), byRel = mostEfficientLine(c, rows, summary, true);
+    for (const std::string& l : {byMse, byRel, paysLine(pairs), earsLine(c, rows, topSpp(summary))})
         if (!l.empty()) lines.push_back(l);
     // At most ten lines: the pairs take what the others leave (the relMSE line goes first when they need it).
     const std::size_t tail = 2;
-    if (lines.size() + pairs.size() + tail > 10 && lines.size() == 3) lines.erase(lines.begin() + 1);
+    if (lines.size() + pairs.size() + tail > 10 && !byMse.empty() && !byRel.empty()) lines.erase(lines.begin() + 1);
     const std::size_t room = 10 - std::min<std::size_t>(10, lines.size() + tail);
     for (std::size_t i = 0; i < pairs.size() && i < room; ++i) lines.push_back(pairLine(pairs[i]));
     if (pairs.size() > room)

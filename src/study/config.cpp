@@ -276,6 +276,12 @@ StudyOptions studyOptionsOf(const StudyConfig& c) {
     return o;
 }
 
+std::string studyCommandLine(const StudyConfig& c) {
+    // The lists and the size always, as the reports have always shown them; every other option where it is not the default.
+    return schema::commandLine(studyOptionsOf(c), studySchema(),
+                               {"scene", "estimators", "samplers", "symmetric_modes", "spp", "repeats", "width", "height"});
+}
+
 nlohmann::json studySettingsJson(const StudyConfig& c) { return schema::toJson(studyOptionsOf(c), studySchema()); }
 
 nlohmann::json studyResultSettingsJson(const StudyConfig& c) { return schema::pixelSettingsJson(studyOptionsOf(c), studySchema()); }

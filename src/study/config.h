@@ -48,6 +48,9 @@ std::vector<std::string> nameList(const std::string& text, const std::vector<std
 StudyConfig toStudyConfig(const StudyOptions& o, bool validateNames);
 /// The options that give this configuration (the lists joined with commas, plots as --no-plots).
 StudyOptions studyOptionsOf(const StudyConfig& c);
+/// The arguments of `symphong study` that give this configuration (report.md's "Command:"): the scene, the
+/// lists and the size, then every other option that is not its default, as studySchema() names them.
+std::string studyCommandLine(const StudyConfig& c);
 /// The configuration's settings as JSON through studySchema() (results.json's "settings": fromJson of
 /// it into StudyOptions and toStudyConfig give the configuration back).
 nlohmann::json studySettingsJson(const StudyConfig& c);

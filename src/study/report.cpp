@@ -4,6 +4,7 @@
 #include "io/files.h"
 #include "sampling/sampler_registry.h"
 #include "study/answer.h"
+#include "study/config.h"
 #include "study/plot_script.h"
 #include "study/study_parts.h"
 
@@ -18,12 +19,6 @@ namespace fs = std::filesystem;
 namespace symphong {
 
 namespace {
-
-std::string modeList(const std::vector<SymmetricMode>& modes) {
-    std::vector<std::string> names;
-    for (SymmetricMode m : modes) names.emplace_back(symmetricModeName(m));
-    return fmt::format("{}", fmt::join(names, ","));
-}
 
 std::string findPython(const std::string& preferred) {
     std::vector<std::string> candidates;
@@ -49,25 +44,13 @@ std::string reportHeader(const ReportInputs& in) {
         "Scene `{}`, {}x{} pixels, max depth {}, {} paired repeat(s) per variant and sample count{}, seed {}. {}\n"
         "Efficiency is 1/(MSE x {}). A variant is an estimator under a sampler (`@sampler`), in spread mode for the set estimators "
         "(`+spread`), with R symmetric copies of one point traced from each camera sample (`+orbitR`), with "
-        "K directions from each camera sample's first hit (`+splitK`).\n"
-        "Command: `symphong study {} --estimators {} --samplers {} --symmetric-modes {} --spp {} --repeats {} --width {} --height "
-        "{}{}{}{}{}`.\n\n",
+        "K directions from each camera sample's first hit (`+splitK`), with splitting and roulette learned by EARS (`+ears`, "
+        "`+ears-orbit`).\n"
+        "Command: `symphong study{}`.\n\n",
         c.scene, c.width, c.height, c.maxDepth, c.repeats,
         c.targetInterval > 0 ? fmt::format(" (more at the top spp, up to a 95% interval of +-{:.0f}%: the answer says how many)", 100 * c.targetInterval)
                              : std::string(),
-        c.seed, in.reference.note, costWords(c.cost), c.scene, fmt::join(c.estimators, ","),
-        fmt::join(c.samplers, ","), modeList(c.modes), fmt::join(c.spps, ","), c.repeats, c.width, c.height,
-        c.splits.empty() ? ""
-                         : fmt::format(" --splits {} --split-estimators {}", fmt::join(c.splits, ","), fmt::join(c.splitEstimators, ",")),
-        std::string(c.budgetPairs > 0 ? fmt::format(" --budget-pairs {}", c.budgetPairs) : "") +
-            (c.jointFirstBounce ? " --joint-first-bounce" : ""),
-        c.options.symmetricOrbit != EstimatorOptions{}.symmetricOrbit ? fmt::format(" --symmetric-orbit {}", c.options.symmetricOrbit)
-                                                                      : "",
-        (c.orbits.empty() ? std::string() : fmt::format(" --orbits {}", fmt::join(c.orbits, ","))) +
-            (c.cost != StudyCost::Cpu ? fmt::format(" --cost {}", studyCostName(c.cost)) : std::string()) +
-            (c.targetInterval > 0 ? fmt::format(" --target-interval {}{}", c.targetInterval,
-                                                c.timeLimit > 0 ? fmt::format(" --time {}", c.timeLimit) : std::string())
-                                  : std::string()));
+        c.seed, in.reference.note, costWords(c.cost), studyCommandLine(c));
     if (processes > 1)
         md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
     for (const auto& s : summary)

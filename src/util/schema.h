@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -207,6 +208,58 @@ nlohmann::json pixelSettingsJson(const S& s, const Schema<S>& schema) {
     for (const Field<S>& f : schema)
         if (f.changesPixels) out[f.key] = valueOf(f, s);
     return out;
+}
+
+/// The command line that gives s: every field offered there whose value differs from a default S's, or
+/// whose key is in `always`, in the schema's order, positional fields (flags without a dash) first as their
+/// value, the others as "--flag value" (the first of a field's flags; lists joined with commas, a bool as
+/// its flag when true; a bool that is false while its default is true cannot be given on the command
+/// line and is left out). A value with a character a shell would read is single-quoted.
+template <class S>
+std::string commandLine(const S& s, const Schema<S>& schema, const std::vector<std::string>& always = {}) {
+    const S defaults{};
+    const auto quoted = [](const std::string& v) {
+        if (!v.empty() && v.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.,/:+=@%") == std::string::npos)
+            return v;
+        std::string q(1, '\'');
+        for (char c : v) {
+            if (c == '\'')
+                q.append("'\\''");
+            else
+                q.push_back(c);
+        }
+        q.push_back('\'');
+        return q;
+    };
+    const auto text = [](const nlohmann::json& j) {
+        if (j.is_string()) return j.get<std::string>();
+        if (!j.is_array()) return j.dump();
+        std::string joined;
+        for (const nlohmann::json& e : j) {
+            if (!joined.empty()) joined += ',';
+            joined += e.is_string() ? e.get<std::string>() : e.dump();
+        }
+        return joined;
+    };
+    std::string positional, options;
+    for (const Field<S>& f : schema) {
+        if (!f.in(kCli) || f.flags.empty()) continue;
+        const nlohmann::json value = valueOf(f, s);
+        if (value == valueOf(f, defaults) && std::find(always.begin(), always.end(), f.key) == always.end()) continue;
+        const std::string flag = f.flags.substr(0, f.flags.find(','));
+        if (flag[0] != '-') {
+            positional.push_back(' ');
+            positional.append(quoted(text(value)));
+        } else if (!value.is_boolean() || value.get<bool>()) {
+            options.push_back(' ');
+            options.append(flag);
+            if (!value.is_boolean()) {
+                options.push_back(' ');
+                options.append(quoted(text(value)));
+            }
+        }
+    }
+    return positional + options;
 }
 
 /// Checks value v of field f against its range, its allowed values and its check; returns the message
