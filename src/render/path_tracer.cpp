@@ -53,6 +53,7 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       settings_(settings),
       learning_(learnsFactors(settings.splitting) ? learning : nullptr),
       records_(records),
+      firstHitRecords_(records),
       areas_(triangleAreas(scene, geometricNormals_)),
       emitters_(scene, areas_, geometricNormals_, settings.nextEvent && estimator.combinesWithLightSampling()),
       triangleSampling_(emitters_.samplesTriangles()),
@@ -337,6 +338,7 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     std::uint64_t traced = 0;
     double sum = 0, squares = 0;  // of the continuations' luminances: the first hit's within-vertex variance
     const ears::Section section = depth == 0 ? ears::Section::FirstHit : ears::Section::Deeper;
+    const bool record = depth == 0 ? firstHitRecords_ : records_;
     const bool orbit = depth == 0 && (n == 2 || n == 4 || n == 8) && settings_.splitting == SplittingMode::EarsOrbit;
     if (orbit) firstHitOrbit(sc, samples, n, pc.scratch.orbit);
     for (std::uint32_t j = 0; j < n; ++j) {
@@ -369,14 +371,14 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
             value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / divisor, pc);
             ++traced;
         }
-        if (records_) {
+        if (record) {
             const double y = luminance(value);
             pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), y, pc.stats.rays - raysBefore, section});
             sum += y, squares += y * y;
         }
         L += value / divisor;
     }
-    if (depth == 0 && records_) {
+    if (depth == 0 && record) {
         const double within = n > 1 ? std::max(0.0, squares - sum * sum / n) / (n - 1.0) : 0.0;
         pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), within, n > 1 ? 1u : 0u, ears::Section::FirstHitVertex});
     }

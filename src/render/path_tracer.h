@@ -139,8 +139,9 @@ public:
 
     const Scene& scene() const { return scene_; }
     /// --splitting ears: whether continuations are reported from now on (a tracer kept from epoch to epoch:
-    /// off in the render's last). Not while a render uses the tracer.
-    void setRecords(bool records) { records_ = records; }
+    /// off in the render's last), and among them the first hit's (`firstHit`: off once its factors hold for
+    /// good, splitting/learning.h kProbeSamples). Not while a render uses the tracer.
+    void setRecords(bool records, bool firstHit) { records_ = records, firstHitRecords_ = records && firstHit; }
     double epsilon() const { return epsilon_; }
 
 private:
@@ -205,6 +206,7 @@ private:
     TraceSettings settings_;
     const ears::Learning* learning_;
     bool records_;                        ///< --splitting ears: whether continuations are reported (not in the last epoch)
+    bool firstHitRecords_;                ///< and the first hit's (FirstHit, FirstHitVertex) among them
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
     std::vector<std::uint8_t> textured_;  ///< per material: whether it has any texture (one byte to test on the hot path)
     std::vector<double> areas_;

@@ -127,12 +127,17 @@ private:
 /// this spp, resumed or not).
 bool recordsEpoch(const RenderState& state) { return state.ears && !ears::lastEpoch(state.ears->epoch, state.sppBound); }
 
+/// Whether the epoch records the first hit's continuations too: not after epoch 0 of a probed render,
+/// whose first-hit factors hold from then on (ears::Learning::advance); the deeper vertices' scale is then
+/// sqrt(C / V) at the held factors (ears::learnFactors with no first-hit cells).
+bool recordsFirstHit(const RenderState& state) { return recordsEpoch(state) && (!state.ears->probed || state.ears->epoch == 0); }
+
 /// renderSegment with a tracer from makeTracer, its records switched on or off as recordsEpoch says; its
 /// time counts in the state's.
 void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state, std::uint32_t upTo,
                   std::atomic<std::uint64_t>* progress) {
     const CostClock clock(state);
-    tracer.setRecords(recordsEpoch(state));
+    tracer.setRecords(recordsEpoch(state), recordsFirstHit(state));
     const bool learns = learnsFactors(settings.trace.splitting);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
@@ -222,7 +227,7 @@ namespace {
 
 void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state) {
     const CostClock clock(state);
-    tracer.setRecords(true);
+    tracer.setRecords(true, true);
     ears::Learning& learning = *state.ears;
     const Scene& scene = tracer.scene();
     const auto sampler =

@@ -183,7 +183,16 @@ study-resume)
   "$bin" "${study[@]}" -o whole >/dev/null 2>&1
   "$bin" "${study[@]}" -o parts >/dev/null 2>err &
   pid=$!
-  sleep 1
+  # A background job of a non-interactive shell starts with SIGINT ignored: a signal sent before the study
+  # installs its handler is lost, and the study runs to the end (exit 0). A fixed second was not always
+  # enough (the sanitizer build on a loaded machine). So: wait until /proc says SIGINT is caught (SigCgt
+  # bit 1), then half a second more, well inside the 6000-spp reference.
+  for _ in $(seq 1200); do
+    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
+    [ -n "$caught" ] && (((16#$caught & 2) != 0)) && break
+    sleep 0.05
+  done
+  sleep 0.5
   kill -INT "$pid"
   rc=0
   wait "$pid" || rc=$?
