@@ -181,7 +181,7 @@ private:
     /// point j of its sample (SampleStream::blockContinuation): no two calls in a pixel share a number.
     /// --splitting ears-orbit: the orbit of n symmetric copies that a first hit's n continuations follow, copy
     /// j in copies[j] (in the scratch, not in splitContinuations' frame: a local orbit there, even unused,
-    /// was zeroed on every call, 6% of an EARS render's time in that function).
+    /// was zeroed on every call, 14% of that function's time).
     void firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n, std::array<Vec3, 8>& copies) const;
     Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
                              double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;

@@ -92,6 +92,16 @@ std::vector<PairResult> fairPairs(const StudyConfig& c, const std::vector<StudyR
     return out;
 }
 
+/// One word for a set of verdicts: Yes (ahead somewhere, behind nowhere), No, Sometimes (both), No gain
+/// (only equal ones), Not resolved.
+const char* verdictWord(int ahead, int behind, int equal) {
+    return ahead > 0 && behind == 0   ? "Yes"
+           : behind > 0 && ahead == 0 ? "No"
+           : ahead > 0 && behind > 0  ? "Sometimes"
+           : equal > 0                ? "No gain"
+                                      : "Not resolved";
+}
+
 std::string paysLine(const std::vector<PairResult>& pairs) {
     if (pairs.empty())
         return "**Does symmetric sampling pay?** This study has no fair pair to answer it (a symmetric candidate and `phong` split "
@@ -103,15 +113,11 @@ std::string paysLine(const std::vector<PairResult>& pairs) {
             case Verdict::Equal: ++equal; break;
             case Verdict::Unresolved: ++open; break;
         }
-    const char* word = ahead > 0 && behind == 0 ? "Yes"
-                       : behind > 0 && ahead == 0 ? "No"
-                       : ahead > 0 && behind > 0 ? "Sometimes"
-                       : equal > 0               ? "No gain"
-                                                 : "Not resolved";
     return fmt::format(
         "**Does symmetric sampling pay?** {}: against `phong` with the same paths per camera sample, the symmetric variant is ahead in "
         "{}, behind in {}, equal (within {:.0f}%) in {}{} of {} fair pairs.",
-        word, ahead, behind, 100 * kEqualBand, equal, open > 0 ? fmt::format(", not resolved in {}", open) : std::string(), pairs.size());
+        verdictWord(ahead, behind, equal), ahead, behind, 100 * kEqualBand, equal,
+        open > 0 ? fmt::format(", not resolved in {}", open) : std::string(), pairs.size());
 }
 
 /// "Does efficiency-aware splitting pay?": each variant that learns factors (`--splittings ears,ears-orbit`)
@@ -122,10 +128,11 @@ std::string earsLine(const StudyConfig& c, const std::vector<StudyRow>& rows, st
     std::vector<std::string> parts;
     // The verdict word, as paysLine's, from the learned variants against plain tracing (not ears-orbit against ears).
     int ahead = 0, behind = 0, equal = 0;
+    const auto learns = [&](const std::string& label) {
+        return std::any_of(variants.begin(), variants.end(),
+                           [&](const StudyVariant& x) { return x.label == label && learnsFactors(x.splitting); });
+    };
     for (const VariantPair& cmp : studyComparisons(variants)) {
-        const auto learns = [&](const std::string& label) {
-            return std::any_of(variants.begin(), variants.end(), [&](const StudyVariant& x) { return x.label == label && learnsFactors(x.splitting); });
-        };
         if (!learns(cmp.variant)) continue;
         const auto r = compareVariants(rows, cmp.variant, cmp.against, top);
         if (r && !learns(cmp.against)) {
@@ -136,12 +143,7 @@ std::string earsLine(const StudyConfig& c, const std::vector<StudyRow>& rows, st
                                     r ? fmt::format("**{}**, {}", verdictName(verdictOf(*r)), intervalText(*r)) : "(no common repeats)"));
     }
     if (parts.empty()) return {};
-    const char* word = ahead > 0 && behind == 0 ? "Yes"
-                       : behind > 0 && ahead == 0 ? "No"
-                       : ahead > 0 && behind > 0 ? "Sometimes"
-                       : equal > 0               ? "No gain"
-                                                 : "Not resolved";
-    return fmt::format("**Does efficiency-aware splitting pay?** {}: {}.", word, fmt::join(parts, "; "));
+    return fmt::format("**Does efficiency-aware splitting pay?** {}: {}.", verdictWord(ahead, behind, equal), fmt::join(parts, "; "));
 }
 
 std::string pairLine(const PairResult& p) {
