@@ -213,13 +213,16 @@ void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
     startLearning(scene, state);
     ears::Learning& l = *state.ears;
     double box[7] = {l.grid.lo().x, l.grid.lo().y, l.grid.lo().z, l.grid.hi().x, l.grid.hi().y, l.grid.hi().z, l.factors.scale};
-    std::int32_t epochAndFactors[2] = {l.epoch, l.factors.empty() ? 0 : 1};
+    // The epoch, whether there are factors, and whether rank 0 probed: after a probe no rank records the first
+    // hit from epoch 1 on (render/renderer.cpp recordsFirstHit), as one process would not.
+    std::int32_t epochAndFactors[3] = {l.epoch, l.factors.empty() ? 0 : 1, l.probed ? 1 : 0};
     MPI_Bcast(box, 7, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    MPI_Bcast(epochAndFactors, 2, MPI_INT32_T, 0, MPI_COMM_WORLD);
+    MPI_Bcast(epochAndFactors, 3, MPI_INT32_T, 0, MPI_COMM_WORLD);
     const int cells = static_cast<int>(ears::Grid::cellCount());
     if (!job.root()) {
         l.grid = ears::Grid::fromBox(Vec3(box[0], box[1], box[2]), Vec3(box[3], box[4], box[5]));
         l.epoch = epochAndFactors[0];
+        l.probed = epochAndFactors[2] != 0;
         l.factors = ears::Factors{};
         l.factors.scale = box[6];
         if (epochAndFactors[1]) {
