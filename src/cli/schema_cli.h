@@ -19,7 +19,7 @@ std::set<std::string> givenKeys(const CLI::App* cmd, const schema::Schema<S>& fi
     std::set<std::string> given;
     for (const schema::Field<S>& f : fields) {
         if (!f.in(schema::kCli) || f.flags.empty()) continue;
-        const std::string first = f.flags.substr(0, f.flags.find(','));
+        const std::string first = f.flag();
         if (const CLI::Option* opt = cmd->get_option_no_throw(first); opt && opt->count() > 0) given.insert(f.key);
     }
     return given;
@@ -33,7 +33,7 @@ void addSchemaOptions(CLI::App* cmd, S& target, const schema::Schema<S>& fields)
             [&](const auto& access) {
                 using A = std::decay_t<decltype(access)>;
                 if constexpr (std::is_same_v<A, schema::TextAccess<S>>) {
-                    const std::string flag = f.flags.substr(0, f.flags.find(','));
+                    const std::string flag = f.flag();
                     cmd->add_option_function<std::string>(
                            f.flags,
                            [&target, access, flag](const std::string& value) {

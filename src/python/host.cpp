@@ -49,7 +49,7 @@ py::list renderSettingsList() {
         if (!f.in(schema::kPython)) continue;
         py::dict d;
         d["name"] = f.pyKey();
-        d["flag"] = f.flags.substr(0, f.flags.find(','));
+        d["flag"] = f.flag();
         d["help"] = f.help;
         nlohmann::json value = schema::valueOf(f, defaults);
         if (f.negated && value.is_boolean()) value = !value.get<bool>();

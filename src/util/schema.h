@@ -139,6 +139,8 @@ struct Field {
 
     bool in(Where w) const { return (where & w) != 0; }
     const std::string& pyKey() const { return pythonKey.empty() ? key : pythonKey; }
+    /// The first of the command-line names ("--max-depth" of "--max-depth,-d"; a positional's name).
+    std::string flag() const { return flags.substr(0, flags.find(',')); }
     bool hasRange() const { return lo > -std::numeric_limits<double>::infinity() || hi < std::numeric_limits<double>::infinity(); }
 };
 
@@ -246,7 +248,7 @@ std::string commandLine(const S& s, const Schema<S>& schema, const std::vector<s
         if (!f.in(kCli) || f.flags.empty()) continue;
         const nlohmann::json value = valueOf(f, s);
         if (value == valueOf(f, defaults) && std::find(always.begin(), always.end(), f.key) == always.end()) continue;
-        const std::string flag = f.flags.substr(0, f.flags.find(','));
+        const std::string flag = f.flag();
         if (flag[0] != '-') {
             positional.push_back(' ');
             positional.append(quoted(text(value)));
