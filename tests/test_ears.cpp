@@ -52,6 +52,39 @@ TEST(EarsFactor, SplitsByVarianceRoulettesBySecondMomentAndClamps) {
     EXPECT_DOUBLE_EQ(ears::splittingFactor(1, 0, 0, 1), ears::kMinFactor);  // a region that never brings light back
 }
 
+// The factor is computed by selects, not branches: the same as the rule read case by case (EARS's: split by
+// q_split above 1, else roulette by q_rr below 1, else 1; then clamped), on random inputs that include a
+// sample variance above the second moment (n / (n - 1) makes that possible when the mean is small).
+TEST(EarsFactor, TheSelectsGiveTheRuleCaseByCase) {
+    const auto rule = [](double t, double vr, double mr, double s) {
+        const double split = t * vr * s, roulette = t * mr * s;
+        double q = 1;
+        if (split > 1)
+            q = split;
+        else if (roulette < 1)
+            q = roulette;
+        return std::min(std::max(q, ears::kMinFactor), ears::kMaxFactor);
+    };
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> logValue(std::log(1e-3), std::log(1e2));
+    int split = 0, roulette = 0, one = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const double t = std::exp(logValue(rng)), vr = std::exp(logValue(rng)), mr = std::exp(logValue(rng)), s = std::exp(logValue(rng));
+        const double q = ears::splittingFactor(t, vr, mr, s);
+        ASSERT_EQ(q, rule(t, vr, mr, s)) << t << " " << vr << " " << mr << " " << s;
+        split += t * vr * s > 1, roulette += t * vr * s <= 1 && t * mr * s < 1, one += t * vr * s <= 1 && t * mr * s >= 1;
+    }
+    EXPECT_GT(split, 1000);  // every case met often
+    EXPECT_GT(roulette, 1000);
+    EXPECT_GT(one, 1000);
+    // And the floor is the larger of the two factors whenever plain's survival is below 1, as it always is.
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 10000; ++i) {
+        const double q = 3 * u(rng), plain = ears::throughputSurvival(2 * u(rng));
+        ASSERT_EQ(ears::flooredRoulette(q, plain), q < 1 ? std::max(q, plain) : q);
+    }
+}
+
 // Plain roulette's survival (the factor of an unlearned deeper vertex) and the floor that a low-discrepancy
 // sampler puts under a learned roulette factor: roulette no harsher than plain's, splitting untouched.
 TEST(EarsFactor, RouletteFloorIsPlainRoulettesSurvival) {

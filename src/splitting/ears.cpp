@@ -40,11 +40,6 @@ double toDouble(Wide v) { return static_cast<double>(v) / kFixedPoint; }
 
 }  // namespace
 
-double firstHitBlock(double q) {
-    if (!(q > 1)) return 1;  // NaN too
-    return std::min(kMaxFactor, std::exp2(std::round(std::log2(q))));
-}
-
 void CellSums::add(double value, std::uint64_t rays) {
     if (!(value >= 0)) value = 0;
     value = std::min(value, kMaxValue);

@@ -57,18 +57,16 @@ inline constexpr double kUnknownFirstHitFactor = 2;
 /// q_split = T sqrt(v / C_x) sqrt(C/V) when that exceeds 1, else q_rr = T sqrt(M / C_x) sqrt(C/V) when that
 /// is below 1, else 1 (the two disagree). `varianceRatio` is sqrt(v / C_x), `momentRatio` sqrt(M / C_x),
 /// `scale` sqrt(C / V). Clamped to [kMinFactor, kMaxFactor]; NaN in, kMinFactor out.
-/// Inline: once per path vertex.
+/// Inline: once per path vertex, and without branches on the values (which of the three cases holds
+/// changes from vertex to vertex: a branch on it was mispredicted at about one vertex in ten).
 inline double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale) {
     const double split = throughput * varianceRatio * scale;   // q_split = T sqrt(v / C_x) sqrt(C / V)
     const double roulette = throughput * momentRatio * scale;  // q_rr = T sqrt(M / C_x) sqrt(C / V)
-    if (std::isnan(split) || std::isnan(roulette)) return kMinFactor;
-    double q = 1;
-    if (split > 1)
-        q = split;
-    else if (roulette < 1)
-        q = roulette;
-    if (!(q >= kMinFactor)) return kMinFactor;  // NaN too
-    return std::min(q, kMaxFactor);
+    if (std::isnan(split) || std::isnan(roulette)) return kMinFactor;  // never taken but on bad input
+    // split > 1: split; else roulette < 1: roulette; else 1. As selects (minsd, then a blend).
+    const double rouletteOrOne = roulette < 1 ? roulette : 1.0;
+    const double q = split > 1 ? split : rouletteOrOne;
+    return std::clamp(q, kMinFactor, kMaxFactor);
 }
 
 /// Plain Russian roulette's survival probability at a vertex whose throughput's largest component is
@@ -86,14 +84,23 @@ inline double throughputSurvival(double maxThroughput) {
 /// roulette adds is not stratified away: the formula roulettes too hard there (docs/estimators.md
 /// "Roulette under a low-discrepancy sampler"). The render applies it when its sampler is not
 /// independent (TraceSettings::earsRouletteFloor).
-inline double flooredRoulette(double q, double plain) { return q < 1 ? std::max(q, plain) : q; }
+/// `plain` < 1 (throughputSurvival's is at most 0.95), so that the larger of the two is the rule in both cases:
+/// one max, no branch.
+inline double flooredRoulette(double q, double plain) { return std::max(q, std::min(plain, 1.0)); }
 
 /// The first hit's number of continuations for the model's optimum q: the power of two nearest to q on a
 /// log scale (2^round(log2 q)), in [1, kMaxFactor]: the same at every vertex of a cell, and a whole block
 /// of block points (SampleStream::blockContinuation), so that a pixel's first-hit continuations stay a net.
 /// It is also the best power of two for the model: a cell's share of V x C near the optimum goes as
 /// a / n + b n, whose ratio to its minimum, (q/n + n/q) / 2, depends on log(n / q) alone and symmetrically.
-double firstHitBlock(double q);
+/// Inline and by three comparisons with the midpoints 2^(k + 1/2) on the log scale (once per first hit;
+/// log2, round and exp2 were three calls into libm).
+inline double firstHitBlock(double q) {
+    static_assert(kMaxFactor == 8, "the blocks are 1, 2, 4 and 8");
+    constexpr double kSqrt2 = 1.4142135623730950488;  // 2^(1/2): the midpoint of 1 and 2 on the log scale
+    // q >= 2^(k + 1/2) adds 2^k: 1, 2, 4 or 8 (NaN compares false: 1).
+    return 1.0 + (q >= kSqrt2 ? 1.0 : 0.0) + (q >= 2 * kSqrt2 ? 2.0 : 0.0) + (q >= 4 * kSqrt2 ? 4.0 : 0.0);
+}
 
 /// Exact sums of one region's continuations: their number, rays, values and squared values in units of
 /// 2^-40 (unsigned 128-bit integers; values are clamped to [0, 2^23], so that a value fits 64 bits and its
@@ -229,6 +236,8 @@ inline std::size_t sectionStart(Section section) { return Grid::cellCount() * st
 /// directly.
 struct Factors {
     std::vector<float> varianceRatio, momentRatio, firstHit;
+    std::vector<std::array<float, 4>> packed;  // TRIAL
+    void pack() { const std::size_t f0 = Grid::firstCell(Grid::kLevels - 1); packed.resize(Grid::cellCount() - f0); if (empty()) return; for (std::size_t c = f0; c < Grid::cellCount(); ++c) packed[c - f0] = {varianceRatio[c], momentRatio[c], firstHit[c], 0.f}; }
     double scale = 0;
 
     bool empty() const { return momentRatio.empty(); }
