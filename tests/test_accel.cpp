@@ -13,7 +13,7 @@
 namespace symphong {
 namespace {
 
-void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed) {
+void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed, bool coherent) {
     const Accel accel(scene);
     Vec3 lo, hi;
     scene.bounds(lo, hi);
@@ -30,7 +30,7 @@ void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed) {
             }
             std::vector<Hit> hits(n);
             auto found = std::make_unique<bool[]>(n);
-            accel.intersectBundle(o, dirs.data(), n, 1e-4, hits.data(), found.get());
+            accel.intersectBundle(o, dirs.data(), n, 1e-4, hits.data(), found.get(), coherent);
             for (std::size_t i = 0; i < n; ++i) {
                 Hit single;
                 const bool f = accel.intersect(o, dirs[i], 1e-4, std::numeric_limits<double>::infinity(), single);
@@ -55,12 +55,15 @@ void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed) {
 TEST(Accel, BundleMatchesSingleRaysInTheCornellBox) {
     Scene s = makeCornellBox();
     finalizeScene(s, "cornell", false);
-    expectBundleMatchesSingleRays(s, 1);
+    expectBundleMatchesSingleRays(s, 1, false);
+    expectBundleMatchesSingleRays(s, 1, true);  // the flag of camera packets: a hint, the same answers
 }
 
 TEST(Accel, BundleMatchesSingleRaysOnTheBunny) {
     SYMPHONG_REQUIRE_SCENES_DIR();
-    expectBundleMatchesSingleRays(loadScene(test::scenesDir() + "/bunny/stanford-bunny.obj"), 2);
+    const Scene bunny = loadScene(test::scenesDir() + "/bunny/stanford-bunny.obj");
+    expectBundleMatchesSingleRays(bunny, 2, false);
+    expectBundleMatchesSingleRays(bunny, 2, true);
 }
 
 }  // namespace

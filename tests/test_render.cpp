@@ -9,7 +9,10 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -539,5 +542,60 @@ TEST(Camera, ImageEdgesLandOnPixelEdges) {
                         << sampler << (vertical ? " top half" : " left half") << ": pixel (" << x << ", " << y << ")";
                 }
         }
+    }
+}
+
+// A pixel's camera rays go to Embree as one coherent packet (PathTracer::cameraRadiances): each sample's
+// radiance must be the one cameraRadiance gives for the same sample traced alone (the second method: one
+// rtcIntersect1 per camera ray). Packet kernels may round differently from the single-ray one on another
+// CPU, so a value may differ by round-off there; on any CPU nearly every sample is equal to 1e-9, and a
+// packet that mixed up its streams, rays or order would differ everywhere.
+TEST(Render, CameraPacketsTraceWhatSingleCameraRaysTrace) {
+    std::vector<std::string> scenes = {"cornell", std::string(SYMPHONG_SOURCE_DIR) + "/scenes/cornell-glossy-100.json"};
+    if (!test::scenesDir().empty()) scenes.push_back(test::scenesDir() + "/bunny/stanford-bunny.obj");
+    for (const std::string& spec : scenes) {
+        const Scene scene = loadScene(spec);
+        const Accel accel(scene);
+        const auto estimator = makeEstimator("phong");
+        const PathTracer tracer(scene, accel, *estimator, TraceSettings{});
+        const int width = 24, height = 18;
+        const std::uint32_t spp = 40;  // packets of 16, 16 and 8 a pixel
+        const auto sampler = makeSampler("sobol", spp, 7);
+        const CameraRays cameraRays(scene.camera, width, height);
+        PathScratch scratch;
+        TraceStats packetStats, singleStats;
+        std::size_t compared = 0, differing = 0, lit = 0;
+        for (int y = 0; y < height; y += 5)
+            for (int x = 0; x < width; x += 3) {
+                const std::size_t pixel = static_cast<std::size_t>(y) * width + x;
+                for (std::uint32_t first = 0; first < spp; first += PathTracer::kCameraPacket) {
+                    const std::size_t n = std::min<std::size_t>(PathTracer::kCameraPacket, spp - first);
+                    std::array<SampleStream, PathTracer::kCameraPacket> streams;
+                    std::array<Vec3, PathTracer::kCameraPacket> dirs;
+                    std::array<Color, PathTracer::kCameraPacket> packet;
+                    Vec3 o;
+                    for (std::size_t k = 0; k < n; ++k) {
+                        streams[k] = SampleStream(*sampler, pixel, first + static_cast<std::uint32_t>(k), SampleDimensions::kPixel);
+                        const Point2 jitter = streams[k].get2D();
+                        cameraRays(x + jitter.u, y + jitter.v, o, dirs[k]);
+                    }
+                    tracer.cameraRadiances(o, dirs.data(), n, streams.data(), packet.data(), packetStats, scratch);
+                    for (std::size_t k = 0; k < n; ++k) {
+                        SampleStream alone(*sampler, pixel, first + static_cast<std::uint32_t>(k), SampleDimensions::kPixel);
+                        const Point2 jitter = alone.get2D();
+                        Vec3 so, sd;
+                        cameraRays(x + jitter.u, y + jitter.v, so, sd);
+                        const Color single = tracer.cameraRadiance(so, sd, alone, singleStats, scratch);
+                        ++compared;
+                        lit += luminance(single) > 0;
+                        const double scale = std::max(1e-30, maxComponent(single));
+                        const Vec3 d = packet[k] - single;
+                        if (std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}) > 1e-9 * scale) ++differing;
+                    }
+                }
+            }
+        EXPECT_GT(lit, compared / 2) << spec;  // the comparison saw light
+        EXPECT_LE(differing, compared / 100) << spec << ": " << differing << " of " << compared << " camera samples differ";
+        EXPECT_NEAR(static_cast<double>(packetStats.rays), static_cast<double>(singleStats.rays), 0.01 * singleStats.rays) << spec;
     }
 }

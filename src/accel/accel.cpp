@@ -104,7 +104,7 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
     return true;
 }
 
-void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found) const {
+void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found, bool coherent) const {
     // A packet costs about what a full one does however few of its lanes are active: a small bundle (the
     // two rays of --split 2) goes ray by ray (bench_limit --split 2; docs/performance.md, "The limit").
     if (!packets_ || n <= kSingleRaysUpTo) {
@@ -140,6 +140,7 @@ void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, doub
                     {{ox, oy, oz}, {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]}, rh.ray.tnear[k], rh.ray.tfar[k], false});
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
+        if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         rtcIntersect16(valid, scene_, &ctx, &rh);
         for (std::size_t k = 0; k < count; ++k) {
             found[first + k] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;

@@ -67,14 +67,35 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
     for (const PhongMaterial& m : scene.materials) textured_.push_back(m.textures.any() ? 1 : 0);
 }
 
+void PathTracer::prepare(PathScratch& scratch) const {
+    const std::size_t depths = static_cast<std::size_t>(settings_.maxDepth) + 1;
+    if (scratch.directions.size() >= depths) return;
+    scratch.directions.resize(depths);
+    scratch.bundles.resize(depths);
+    scratch.materials.resize(depths);
+}
+
 Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const {
-    if (scratch.directions.size() < static_cast<std::size_t>(settings_.maxDepth) + 1) {
-        scratch.directions.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
-        scratch.bundles.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
-        scratch.materials.resize(static_cast<std::size_t>(settings_.maxDepth) + 1);
-    }
+    prepare(scratch);
     PathContext pc{samples, stats, scratch};
     return radiance(o, d, 0, 0, 0.0, Color(1.0), pc);
+}
+
+// The camera rays as one packet: they share the eye and point into one pixel, so Embree's coherent packet
+// traversal visits the BVH's nodes once for all of them (radiance() traces depth 0 with tnear 0, tfar inf:
+// the same query).
+void PathTracer::cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
+                                 PathScratch& scratch) const {
+    prepare(scratch);
+    std::array<Hit, kCameraPacket> hits;
+    std::array<bool, kCameraPacket> found;
+    n = std::min(n, kCameraPacket);
+    accel_.intersectBundle(o, dirs, n, 0.0, hits.data(), found.data(), true);
+    stats.rays += n;
+    for (std::size_t k = 0; k < n; ++k) {
+        PathContext pc{streams[k], stats, scratch};
+        out[k] = shade(o, dirs[k], found[k] ? &hits[k] : nullptr, 0, 0, 0.0, Color(1.0), pc);
+    }
 }
 
 // One path vertex: emission (MIS-weighted against light sampling when the previous vertex could also

@@ -136,6 +136,15 @@ public:
     /// Radiance arriving at the camera along o + t d, every decision drawn from `samples` (one camera
     /// sample's stream) at the dimensions of SampleDimensions.
     Color cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const;
+    /// The most camera rays cameraRadiances takes: one Embree packet.
+    static constexpr std::size_t kCameraPacket = 16;
+    /// cameraRadiance of n <= kCameraPacket camera rays o + t dirs[k] from one origin (a pinhole camera's,
+    /// one pixel's samples), out[k] from streams[k]: their first hits found as one coherent packet
+    /// (Accel::intersectBundle), then each path traced on its own, in order. The same radiances as n calls
+    /// of cameraRadiance (the packet's hits are the single rays', bit for bit on this machine: the golden
+    /// images and EXRs compared with `cmp`), with Embree's traversal of the camera rays shared.
+    void cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
+                         PathScratch& scratch) const;
 
     const Scene& scene() const { return scene_; }
     /// --splitting ears: whether continuations are reported from now on (a tracer kept from epoch to epoch:
@@ -145,6 +154,8 @@ public:
     double epsilon() const { return epsilon_; }
 
 private:
+    /// Sizes the scratch's per-depth buffers for this tracer's maximum depth (once per thread).
+    void prepare(PathScratch& scratch) const;
     struct PathContext {
         SampleStream& samples;
         TraceStats& stats;

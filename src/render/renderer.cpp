@@ -12,6 +12,7 @@
 #include <oneapi/tbb/task_group.h>
 #include <oneapi/tbb/version.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -77,6 +78,26 @@ Color traceCameraSample(const PathTracer& tracer, const Sampler& sampler, const 
     if (isFinite(L) && minComponent(L) >= 0) return L;
     ++stats.badSamples;
     return Color(0.0);
+}
+
+/// Camera samples first .. first + n - 1 (n <= PathTracer::kCameraPacket) of pixel (x, y): the same
+/// values as traceCameraSample of each in turn, their camera rays traced as one packet.
+void traceCameraSamples(const PathTracer& tracer, const Sampler& sampler, const CameraRays& cameraRays, int x, int y, std::size_t pixel,
+                        std::uint32_t first, std::uint32_t n, TraceStats& stats, PathScratch& scratch, Color* out) {
+    std::array<SampleStream, PathTracer::kCameraPacket> streams;
+    std::array<Vec3, PathTracer::kCameraPacket> dirs;
+    Vec3 o;
+    for (std::uint32_t k = 0; k < n; ++k) {
+        streams[k] = SampleStream(sampler, pixel, first + k, SampleDimensions::kPixel);
+        const Point2 jitter = streams[k].get2D();
+        cameraRays(x + jitter.u, y + jitter.v, o, dirs[k]);  // o: the camera's position, the same for all
+    }
+    tracer.cameraRadiances(o, dirs.data(), n, streams.data(), out, stats, scratch);
+    for (std::uint32_t k = 0; k < n; ++k) {
+        if (isFinite(out[k]) && minComponent(out[k]) >= 0) continue;
+        ++stats.badSamples;
+        out[k] = Color(0.0);
+    }
 }
 
 /// Runs renderTile over every tile (or those settings.tiles gives out) on settings.threads threads.
@@ -164,11 +185,16 @@ void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSe
         forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) {
             Color sum = state.sum[pixel], sumSq = state.sumSq[pixel];
             double sumYSq = state.sumLuminanceSq[pixel];
-            for (std::uint32_t i = from; i < upTo; ++i) {
-                const Color L = traceCameraSample(tracer, *sampler, cameraRays, x, y, pixel, i, stats, scratch);
-                sum += L;
-                sumSq += L * L;
-                sumYSq += luminance(L) * luminance(L);
+            // The pixel's camera rays a packet at a time, their radiances added in the order of their index.
+            std::array<Color, PathTracer::kCameraPacket> L;
+            for (std::uint32_t i = from; i < upTo; i += PathTracer::kCameraPacket) {
+                const auto n = static_cast<std::uint32_t>(std::min<std::size_t>(PathTracer::kCameraPacket, upTo - i));
+                traceCameraSamples(tracer, *sampler, cameraRays, x, y, pixel, i, n, stats, scratch, L.data());
+                for (std::uint32_t k = 0; k < n; ++k) {
+                    sum += L[k];
+                    sumSq += L[k] * L[k];
+                    sumYSq += luminance(L[k]) * luminance(L[k]);
+                }
             }
             state.sum[pixel] = sum, state.sumSq[pixel] = sumSq, state.sumLuminanceSq[pixel] = sumYSq;
             if (scratch.splitRecords.size() >= kRecordsPerFlush) learn(scratch.splitRecords);

@@ -198,6 +198,8 @@ std::unique_ptr<Sampler> makeSampler(std::string_view name, std::uint32_t sample
 /// order from a position the caller sets. What estimators and the path tracer draw from.
 class SampleStream {
 public:
+    /// No stream yet: a place in an array of streams, to be assigned one before it is read.
+    SampleStream() = default;
     SampleStream(const Sampler& sampler, std::uint64_t pixel, std::uint32_t index, std::uint64_t dim = 0)
         : sampler_(&sampler),
           pixel_(pixel),
@@ -301,13 +303,13 @@ public:
     std::uint64_t seed() const { return sampler_->seed(); }
 
 private:
-    const Sampler* sampler_;
-    std::uint64_t pixel_, key_;
-    std::uint32_t index_;
-    std::uint32_t count_;  ///< samples of the pattern: the pixel's spp, or spp x k for a split stream
-    bool sobol_;           ///< sampler_ is a SobolSampler: its values inline
-    bool block_ = false;   ///< a sobol blockContinuation: get1D and get2D read block points
-    std::uint64_t dim_;
+    const Sampler* sampler_ = nullptr;
+    std::uint64_t pixel_ = 0, key_ = 0;
+    std::uint32_t index_ = 0;
+    std::uint32_t count_ = 0;  ///< samples of the pattern: the pixel's spp, or spp x k for a split stream
+    bool sobol_ = false;       ///< sampler_ is a SobolSampler: its values inline
+    bool block_ = false;       ///< a sobol blockContinuation: get1D and get2D read block points
+    std::uint64_t dim_ = 0;
 };
 
 }  // namespace symphong
