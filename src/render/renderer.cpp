@@ -60,8 +60,7 @@ constexpr std::size_t kRecordsPerFlush = 8192;
 /// RenderSettings::earsRouletteFloor forces it).
 TraceSettings traceSettings(const Estimator& estimator, const RenderSettings& settings) {
     TraceSettings trace = settings.trace;
-    trace.earsRouletteFloor =
-        settings.earsRouletteFloor.value_or(!isIndependentSampler(effectiveSampler(estimator, settings.sampler)));
+    trace.earsRouletteFloor = settings.earsRouletteFloor.value_or(!isIndependentSampler(effectiveSampler(estimator, settings.sampler)));
     return trace;
 }
 
@@ -80,25 +79,56 @@ Color traceCameraSample(const PathTracer& tracer, const Sampler& sampler, const 
     return Color(0.0);
 }
 
-/// Camera samples first .. first + n - 1 (n <= PathTracer::kCameraPacket) of pixel (x, y): the same
-/// values as traceCameraSample of each in turn, their camera rays traced as one packet.
-void traceCameraSamples(const PathTracer& tracer, const Sampler& sampler, const CameraRays& cameraRays, int x, int y, std::size_t pixel,
-                        std::uint32_t first, std::uint32_t n, TraceStats& stats, PathScratch& scratch, Color* out) {
-    std::array<SampleStream, PathTracer::kCameraPacket> streams;
-    std::array<Vec3, PathTracer::kCameraPacket> dirs;
-    Vec3 o;
-    for (std::uint32_t k = 0; k < n; ++k) {
-        streams[k] = SampleStream(sampler, pixel, first + k, SampleDimensions::kPixel);
-        const Point2 jitter = streams[k].get2D();
-        cameraRays(x + jitter.u, y + jitter.v, o, dirs[k]);  // o: the camera's position, the same for all
+/// A tile's camera samples gathered into packets of PathTracer::kCameraPacket camera rays (a pixel's samples in
+/// the order of their index, the pixels in the tile's order: a packet spans several pixels when a pass takes
+/// fewer samples a pixel than it holds), traced together (PathTracer::cameraRadiances), each radiance added to
+/// its pixel's sums in the order of its sample's index: the same sums as traceCameraSample of each in turn.
+class CameraPackets {
+public:
+    CameraPackets(const PathTracer& tracer, const Sampler& sampler, const CameraRays& cameraRays, RenderState& state, TraceStats& stats,
+                  PathScratch& scratch)
+        : tracer_(tracer), sampler_(sampler), cameraRays_(cameraRays), state_(state), stats_(stats), scratch_(scratch) {}
+
+    /// Sample i of pixel (x, y), traced when the packet is full or at flush().
+    void add(int x, int y, std::size_t pixel, std::uint32_t i) {
+        streams_[n_] = SampleStream(sampler_, pixel, i, SampleDimensions::kPixel);
+        const Point2 jitter = streams_[n_].get2D();
+        cameraRays_(x + jitter.u, y + jitter.v, origin_, dirs_[n_]);  // the origin: the camera's, the same for all
+        pixels_[n_] = pixel;
+        if (++n_ == PathTracer::kCameraPacket) flush();
     }
-    tracer.cameraRadiances(o, dirs.data(), n, streams.data(), out, stats, scratch);
-    for (std::uint32_t k = 0; k < n; ++k) {
-        if (isFinite(out[k]) && minComponent(out[k]) >= 0) continue;
-        ++stats.badSamples;
-        out[k] = Color(0.0);
+    /// Traces the samples added since the last flush and adds them to their pixels.
+    void flush() {
+        if (n_ == 0) return;
+        std::array<Color, PathTracer::kCameraPacket> radiances;
+        tracer_.cameraRadiances(origin_, dirs_.data(), n_, streams_.data(), radiances.data(), stats_, scratch_);
+        for (std::size_t k = 0; k < n_; ++k) {
+            Color L = radiances[k];
+            if (!isFinite(L) || minComponent(L) < 0) {  // counted, never written (traceCameraSample's rule)
+                ++stats_.badSamples;
+                L = Color(0.0);
+            }
+            const std::size_t pixel = pixels_[k];
+            state_.sum[pixel] += L;
+            state_.sumSq[pixel] += L * L;
+            state_.sumLuminanceSq[pixel] += luminance(L) * luminance(L);
+        }
+        n_ = 0;
     }
-}
+
+private:
+    const PathTracer& tracer_;
+    const Sampler& sampler_;
+    const CameraRays& cameraRays_;
+    RenderState& state_;
+    TraceStats& stats_;
+    PathScratch& scratch_;
+    std::array<SampleStream, PathTracer::kCameraPacket> streams_;
+    std::array<Vec3, PathTracer::kCameraPacket> dirs_;
+    std::array<std::size_t, PathTracer::kCameraPacket> pixels_{};
+    Vec3 origin_;
+    std::size_t n_ = 0;
+};
 
 /// Runs renderTile over every tile (or those settings.tiles gives out) on settings.threads threads.
 template <class Fn>
@@ -182,25 +212,14 @@ void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSe
         TraceStats stats;
         PathScratch& scratch = scratches.local();
         std::uint64_t pixels = 0;
+        CameraPackets packets(tracer, *sampler, cameraRays, state, stats, scratch);
         forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) {
-            Color sum = state.sum[pixel], sumSq = state.sumSq[pixel];
-            double sumYSq = state.sumLuminanceSq[pixel];
-            // The pixel's camera rays a packet at a time, their radiances added in the order of their index.
-            std::array<Color, PathTracer::kCameraPacket> L;
-            for (std::uint32_t i = from; i < upTo; i += PathTracer::kCameraPacket) {
-                const auto n = static_cast<std::uint32_t>(std::min<std::size_t>(PathTracer::kCameraPacket, upTo - i));
-                traceCameraSamples(tracer, *sampler, cameraRays, x, y, pixel, i, n, stats, scratch, L.data());
-                for (std::uint32_t k = 0; k < n; ++k) {
-                    sum += L[k];
-                    sumSq += L[k] * L[k];
-                    sumYSq += luminance(L[k]) * luminance(L[k]);
-                }
-            }
-            state.sum[pixel] = sum, state.sumSq[pixel] = sumSq, state.sumLuminanceSq[pixel] = sumYSq;
+            for (std::uint32_t i = from; i < upTo; ++i) packets.add(x, y, pixel, i);
             if (scratch.splitRecords.size() >= kRecordsPerFlush) learn(scratch.splitRecords);
             if (progress) progress->fetch_add(upTo - from, std::memory_order_relaxed);
             ++pixels;
         });
+        packets.flush();
         learn(scratch.splitRecords);
         state.tileSamples[static_cast<std::size_t>(tile)] = upTo;
         {
