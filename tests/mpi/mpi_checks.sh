@@ -140,16 +140,26 @@ study-interrupt)
 rank-dies)
   "${launch[@]}" -np 2 "$bin" render cornell --spp 4096 -W 64 -H 64 -t 1 -o "$work/x.png" >"$work/out" 2>"$work/err" &
   launcher=$!
-  victim=
+  victim= survivor=
   for _ in $(seq 300); do
     for pid in $(pgrep -f "^$bin render" || true); do
       tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 && victim=$pid
+      tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=0 && survivor=$pid
     done
-    [ -n "$victim" ] && break
+    [ -n "$victim" ] && [ -n "$survivor" ] && break
     sleep 0.1
   done
   [ -n "$victim" ] || fail "rank 1 was not found"
-  sleep 1
+  # Rank 0 says why the job stopped from its SIGTERM handler (the launcher's SIGTERM when a rank ends). A
+  # fixed second after start was not always enough for it to install that handler (the sanitizer build on
+  # a loaded machine: killed before, it said nothing). So: wait until /proc says SIGTERM is caught (SigCgt
+  # bit 14), then half a second more, well inside the 4096-spp render.
+  for _ in $(seq 1200); do
+    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$survivor/status" 2>/dev/null)
+    [ -n "$caught" ] && (((16#$caught & 0x4000) != 0)) && break
+    sleep 0.05
+  done
+  sleep 0.5
   kill -KILL "$victim"
   rc=0
   wait "$launcher" || rc=$?
