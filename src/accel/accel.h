@@ -1,7 +1,7 @@
 // accel/ — ray queries. Owns the Intel Embree 3 device and scene built from a Scene's triangles, and
 // answers closest-hit and any-hit (shadow) queries for single rays and closest-hit queries for bundles
-// of rays from one origin (16-wide packets: a set estimator's directions, a pixel's camera rays). Geometry crosses into float here; everything above it
-// stays in double. On request it records every query as Embree was given it (RayQuery), so that bench/
+// of rays from one origin (16-wide packets: a set estimator's directions, a tile's camera rays). Geometry
+// crosses into float here; everything above it stays in double. On request it records every query as Embree was given it (RayQuery), so that bench/
 // can trace a render's own rays again with Embree alone.
 #pragma once
 
@@ -45,7 +45,7 @@ public:
     /// Closest hits of n rays o + t dirs[i], t in (tnear, inf), sharing the origin o: traced as 16-wide
     /// Embree packets (rtcIntersect16) where the device supports them, else one by one. found[i] says
     /// whether ray i hit; hits[i] is its hit. The same answers as intersect() ray by ray, to float
-    /// round-off of the packet kernels. `coherent`: the rays point nearly the same way (a pixel's camera
+    /// round-off of the packet kernels. `coherent`: the rays point nearly the same way (neighbouring camera
     /// rays), which Embree's packet traversal can exploit (RTC_INTERSECT_CONTEXT_FLAG_COHERENT).
     void intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found, bool coherent = false) const;
     /// Bundles of at most this many rays go ray by ray (rtcIntersect1): a packet costs about what a full one

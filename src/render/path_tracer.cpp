@@ -81,7 +81,7 @@ Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& sam
     return radiance(o, d, 0, 0, 0.0, Color(1.0), pc);
 }
 
-// The camera rays as one packet: they share the eye and point into one pixel, so Embree's coherent packet
+// The camera rays as one packet: they share the eye and point into neighbouring pixels, so Embree's coherent packet
 // traversal visits the BVH's nodes once for all of them (radiance() traces depth 0 with tnear 0, tfar inf:
 // the same query).
 void PathTracer::cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,

@@ -138,8 +138,8 @@ public:
     Color cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const;
     /// The most camera rays cameraRadiances takes: one Embree packet.
     static constexpr std::size_t kCameraPacket = 16;
-    /// cameraRadiance of n <= kCameraPacket camera rays o + t dirs[k] from one origin (a pinhole camera's,
-    /// one pixel's samples), out[k] from streams[k]: their first hits found as one coherent packet
+    /// cameraRadiance of n <= kCameraPacket camera rays o + t dirs[k] from one origin (a pinhole camera's:
+    /// neighbouring samples of a tile, render/renderer.cpp CameraPackets), out[k] from streams[k]: their first hits found as one coherent packet
     /// (Accel::intersectBundle), then each path traced on its own, in order. The same radiances as n calls
     /// of cameraRadiance (the packet's hits are the single rays', bit for bit on this machine: the golden
     /// images and EXRs compared with `cmp`), with Embree's traversal of the camera rays shared.
