@@ -60,8 +60,8 @@ inline constexpr double kUnknownFirstHitFactor = 2;
 /// Inline: once per path vertex, and without branches on the values (which of the three cases holds
 /// changes from vertex to vertex: a branch on it was mispredicted at about one vertex in ten).
 inline double splittingFactor(double throughput, double varianceRatio, double momentRatio, double scale) {
-    const double split = throughput * varianceRatio * scale;   // q_split = T sqrt(v / C_x) sqrt(C / V)
-    const double roulette = throughput * momentRatio * scale;  // q_rr = T sqrt(M / C_x) sqrt(C / V)
+    const double split = throughput * varianceRatio * scale;           // q_split = T sqrt(v / C_x) sqrt(C / V)
+    const double roulette = throughput * momentRatio * scale;          // q_rr = T sqrt(M / C_x) sqrt(C / V)
     if (std::isnan(split) || std::isnan(roulette)) return kMinFactor;  // never taken but on bad input
     // split > 1: split; else roulette < 1: roulette; else 1. As selects (minsd, then a blend).
     const double rouletteOrOne = roulette < 1 ? roulette : 1.0;
@@ -236,8 +236,6 @@ inline std::size_t sectionStart(Section section) { return Grid::cellCount() * st
 /// directly.
 struct Factors {
     std::vector<float> varianceRatio, momentRatio, firstHit;
-    std::vector<std::array<float, 4>> packed;  // TRIAL
-    void pack() { const std::size_t f0 = Grid::firstCell(Grid::kLevels - 1); packed.resize(Grid::cellCount() - f0); if (empty()) return; for (std::size_t c = f0; c < Grid::cellCount(); ++c) packed[c - f0] = {varianceRatio[c], momentRatio[c], firstHit[c], 0.f}; }
     double scale = 0;
 
     bool empty() const { return momentRatio.empty(); }
