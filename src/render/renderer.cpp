@@ -64,19 +64,30 @@ TraceSettings traceSettings(const Estimator& estimator, const RenderSettings& se
     return trace;
 }
 
-/// Camera sample i of the pixel at (x, y) (`pixel` its index): its stream, its jitter inside the pixel, its
-/// camera ray and the radiance along it. A value that is not finite or has a negative channel is counted in
-/// stats.badSamples and comes back black (never written).
-Color traceCameraSample(const PathTracer& tracer, const Sampler& sampler, const CameraRays& cameraRays, int x, int y, std::size_t pixel,
-                        std::uint32_t i, TraceStats& stats, PathScratch& scratch) {
+/// Camera sample i of the pixel at (x, y) (`pixel` its index): its stream, past its jitter inside the pixel,
+/// and its camera ray o + t d.
+SampleStream cameraSample(const Sampler& sampler, const CameraRays& cameraRays, int x, int y, std::size_t pixel, std::uint32_t i, Vec3& o,
+                          Vec3& d) {
     SampleStream samples(sampler, pixel, i, SampleDimensions::kPixel);
     const Point2 jitter = samples.get2D();
-    Vec3 o, d;
     cameraRays(x + jitter.u, y + jitter.v, o, d);
-    const Color L = tracer.cameraRadiance(o, d, samples, stats, scratch);
+    return samples;
+}
+
+/// A camera sample's radiance as the image takes it: one that is not finite or has a negative channel is
+/// counted in stats.badSamples and comes back black (never written).
+Color keptRadiance(const Color& L, TraceStats& stats) {
     if (isFinite(L) && minComponent(L) >= 0) return L;
     ++stats.badSamples;
     return Color(0.0);
+}
+
+/// Camera sample i of the pixel at (x, y) traced alone: the radiance along its camera ray, as kept.
+Color traceCameraSample(const PathTracer& tracer, const Sampler& sampler, const CameraRays& cameraRays, int x, int y, std::size_t pixel,
+                        std::uint32_t i, TraceStats& stats, PathScratch& scratch) {
+    Vec3 o, d;
+    SampleStream samples = cameraSample(sampler, cameraRays, x, y, pixel, i, o, d);
+    return keptRadiance(tracer.cameraRadiance(o, d, samples, stats, scratch), stats);
 }
 
 /// A tile's camera samples gathered into packets of PathTracer::kCameraPacket camera rays (a pixel's samples in
@@ -91,9 +102,7 @@ public:
 
     /// Sample i of pixel (x, y), traced when the packet is full or at flush().
     void add(int x, int y, std::size_t pixel, std::uint32_t i) {
-        streams_[n_] = SampleStream(sampler_, pixel, i, SampleDimensions::kPixel);
-        const Point2 jitter = streams_[n_].get2D();
-        cameraRays_(x + jitter.u, y + jitter.v, origin_, dirs_[n_]);  // the origin: the camera's, the same for all
+        streams_[n_] = cameraSample(sampler_, cameraRays_, x, y, pixel, i, origin_, dirs_[n_]);  // origin_: the camera's, the same for all
         pixels_[n_] = pixel;
         if (++n_ == PathTracer::kCameraPacket) flush();
     }
@@ -103,11 +112,7 @@ public:
         std::array<Color, PathTracer::kCameraPacket> radiances;
         tracer_.cameraRadiances(origin_, dirs_.data(), n_, streams_.data(), radiances.data(), stats_, scratch_);
         for (std::size_t k = 0; k < n_; ++k) {
-            Color L = radiances[k];
-            if (!isFinite(L) || minComponent(L) < 0) {  // counted, never written (traceCameraSample's rule)
-                ++stats_.badSamples;
-                L = Color(0.0);
-            }
+            const Color L = keptRadiance(radiances[k], stats_);
             const std::size_t pixel = pixels_[k];
             state_.sum[pixel] += L;
             state_.sumSq[pixel] += L * L;
