@@ -24,6 +24,8 @@
 #                          3 ranks resume it to the single-process EXR
 set -euo pipefail
 check=$1 bin=$2 mpiexec=$3
+# shellcheck source=../signal_wait.sh
+source "$(dirname "$0")/../signal_wait.sh"
 shift 3
 read -r -a launch <<<"$mpiexec"
 work=$(mktemp -d)
@@ -150,16 +152,10 @@ rank-dies)
     sleep 0.1
   done
   [ -n "$victim" ] || fail "rank 1 was not found"
-  # Rank 0 says why the job stopped from its SIGTERM handler (the launcher's SIGTERM when a rank ends). A
-  # fixed second after start was not always enough for it to install that handler (the sanitizer build on
-  # a loaded machine: killed before, it said nothing). So: wait until /proc says SIGTERM is caught (SigCgt
-  # bit 14), then half a second more, well inside the 4096-spp render.
-  for _ in $(seq 1200); do
-    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$survivor/status" 2>/dev/null)
-    [ -n "$caught" ] && (((16#$caught & 0x4000) != 0)) && break
-    sleep 0.05
-  done
-  sleep 0.5
+  # Rank 0 says why the job stopped from its SIGTERM handler (the launcher's SIGTERM when a rank ends):
+  # killed before it installs that handler, it said nothing. Rank 1 goes once rank 0 catches SIGTERM, well
+  # inside the 4096-spp render.
+  wait_until_caught "$survivor" 15
   kill -KILL "$victim"
   rc=0
   wait "$launcher" || rc=$?

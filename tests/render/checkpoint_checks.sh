@@ -31,6 +31,8 @@
 #                 "target error"
 set -euo pipefail
 check=$1 bin=$2
+# shellcheck source=../signal_wait.sh
+source "$(dirname "$0")/../signal_wait.sh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -184,15 +186,9 @@ study-resume)
   "$bin" "${study[@]}" -o parts >/dev/null 2>err &
   pid=$!
   # A background job of a non-interactive shell starts with SIGINT ignored: a signal sent before the study
-  # installs its handler is lost, and the study runs to the end (exit 0). A fixed second was not always
-  # enough (the sanitizer build on a loaded machine). So: wait until /proc says SIGINT is caught (SigCgt
-  # bit 1), then half a second more, well inside the 6000-spp reference.
-  for _ in $(seq 1200); do
-    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
-    [ -n "$caught" ] && (((16#$caught & 2) != 0)) && break
-    sleep 0.05
-  done
-  sleep 0.5
+  # installs its handler is lost, and the study runs to the end (exit 0). Sent once SIGINT is caught, well
+  # inside the 6000-spp reference.
+  wait_until_caught "$pid" 2
   kill -INT "$pid"
   rc=0
   wait "$pid" || rc=$?
