@@ -1,8 +1,8 @@
 // accel/ — ray queries. Owns the Intel Embree 3 device and scene built from a Scene's triangles, and
 // answers closest-hit and any-hit (shadow) queries for single rays and closest-hit queries for bundles
 // of rays from one origin (16-wide packets: a set estimator's directions, a tile's camera rays). Geometry
-// crosses into float here; everything above it stays in double. On request it records every query as Embree was given it (RayQuery), so that bench/
-// can trace a render's own rays again with Embree alone.
+// crosses into float here; everything above it stays in double. On request it records every query as
+// Embree was given it (RayQuery), so that bench/ can trace a render's own rays again with Embree alone.
 #pragma once
 
 #include "math/vec3.h"

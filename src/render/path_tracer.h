@@ -104,11 +104,11 @@ struct RayBundle {
 
 /// Next-event estimation's contribution at a vertex before its MIS weight (PathTracer::directLight).
 struct DirectLight {
-    Color unweighted{0.0};     ///< f L (delta emitter or no MIS: the whole contribution)
-    double cosine = 0;         ///< cos theta of the light's direction
-    double lightPdf = 0;       ///< the light sample's density (solid angle)
-    double estimatorPdf = 0;   ///< the estimator's MIS density of that direction for one call
-    bool weighted = true;      ///< `unweighted` is the contribution: nothing to weigh
+    Color unweighted{0.0};    ///< f L (delta emitter or no MIS: the whole contribution)
+    double cosine = 0;        ///< cos theta of the light's direction
+    double lightPdf = 0;      ///< the light sample's density (solid angle)
+    double estimatorPdf = 0;  ///< the estimator's MIS density of that direction for one call
+    bool weighted = true;     ///< `unweighted` is the contribution: nothing to weigh
 
     /// The contribution with MIS against `misScale` estimator calls at the vertex (the first hit's split
     /// count k, EARS's q, else 1): f L cos w / p, w the power heuristic of the light's density against the
@@ -139,8 +139,9 @@ public:
     /// The most camera rays cameraRadiances takes: one Embree packet.
     static constexpr std::size_t kCameraPacket = 16;
     /// cameraRadiance of n <= kCameraPacket camera rays o + t dirs[k] from one origin (a pinhole camera's:
-    /// neighbouring samples of a tile, render/renderer.cpp CameraPackets), out[k] from streams[k]: their first hits found as one coherent packet
-    /// (Accel::intersectBundle), then each path traced on its own, in order. The same radiances as n calls
+    /// neighbouring samples of a tile, render/renderer.cpp CameraPackets), out[k] from streams[k]: their
+    /// first hits found as one coherent packet (Accel::intersectBundle), then each path traced on its own,
+    /// in order. The same radiances as n calls
     /// of cameraRadiance (the packet's hits are the single rays', bit for bit on this machine: the golden
     /// images and EXRs compared with `cmp`), with Embree's traversal of the camera rays shared.
     void cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
