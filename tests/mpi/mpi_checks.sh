@@ -152,6 +152,7 @@ rank-dies)
     sleep 0.1
   done
   [ -n "$victim" ] || fail "rank 1 was not found"
+  [ -n "$survivor" ] || fail "rank 0 was not found"
   # Rank 0 says why the job stopped from its SIGTERM handler (the launcher's SIGTERM when a rank ends):
   # killed before it installs that handler, it said nothing. Rank 1 goes once rank 0 catches SIGTERM, well
   # inside the 4096-spp render.

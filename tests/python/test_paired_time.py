@@ -4,6 +4,7 @@ shell running the work in a child), and bad input is refused with exit 2. No ass
 this machine is: the CPU-time checks compare a command's CPU time with a bound far below what it burns."""
 import importlib.util
 import pathlib
+import statistics
 import subprocess
 import sys
 
@@ -23,14 +24,10 @@ def test_ratios_are_taken_pair_by_pair_and_summarised_by_their_median():
     rows = dict(paired_time.summary_rows(a, b))
     assert rows["A/B cpu"] == (1.0, 2.0, 3.0)
     # The median of the ratios, not the ratio of the medians (3.0 / 3.0 = 1.0 here).
-    assert rows["A/B cpu"][1] != statistics_median([r[0] for r in a]) / statistics_median([r[0] for r in b])
+    assert rows["A/B cpu"][1] != statistics.median([r[0] for r in a]) / statistics.median([r[0] for r in b])
     assert rows["A cpu s"] == (2.0, 3.0, 9.0)
     assert rows["B peak MiB"] == (20 / 1024, 20 / 1024, 20 / 1024)
 
-
-def statistics_median(values):
-    s = sorted(values)
-    return s[len(s) // 2]
 
 
 BURN = "import time\nt = time.process_time()\nwhile time.process_time() - t < 0.3: pass\n"
