@@ -218,7 +218,10 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     // arrived by then) and before light sampling's MIS weight, which needs q.
     const double q = learning_ ? continuationFactor(cell, throughput, depth) : 0.0;
     if (lightSampling_) L += direct.value(q > 0 ? q : depth == 0 ? settings_.firstHitSplit : 1);
-    if (q > 0) return L + splitContinuations(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
+    if (q > 0) {
+        if (depth > 0 && q <= 1) return L + rouletteContinuation(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
+        return L + splitContinuations(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
+    }
     return L + continuePath(sc, frame, ng, p, shadowed, depth, path, throughput, pc);
 }
 
@@ -381,20 +384,9 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
             samples.setDimension(SampleDimensions::vertex(depth, own) + SampleDimensions::kEstimator);
             estimator_.sample(sc, samples, dirs);
         }
-        const std::uint64_t raysBefore = pc.stats.rays;
-        Color value(0.0);
-        for (std::size_t k = 0; k < dirs.size(); ++k) {
-            const DirectionSample& s = dirs[k];
-            const Vec3 wi = frame.toWorld(s.wi);
-            if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
-            const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
-            const std::uint64_t nextPath = dirs.size() > 1 ? k + 1 : own;  // a set's directions: paths of their own
-            value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / divisor, pc);
-            ++traced;
-        }
+        const Color value = traceContinuation(dirs, frame, ng, origin, shadowed, q, divisor, depth, own, throughput, record, cell, section, traced, pc);
         if (record) {
-            const double y = luminance(value);
-            pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), y, pc.stats.rays - raysBefore, section});
+            const double y = pc.scratch.splitRecords.back().value;
             sum += y, squares += y * y;
         }
         L += value / divisor;
@@ -405,6 +397,48 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     }
     if (traced > 1) pc.stats.extraPaths += traced - 1;
     return L;
+}
+
+// One continuation of a vertex under --splitting ears: the estimator's directions in `dirs` (one for every
+// estimator but a set's), each traced with weight 1/divisor in its throughput and MIS density times q, and,
+// with `record`, reported as one record of its luminance and rays (splitting/learning.h Record).
+inline Color PathTracer::traceContinuation(const DirectionList& dirs, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed,
+                                           double q, double divisor, int depth, std::uint64_t own, const Color& throughput, bool record,
+                                           std::size_t cell, ears::Section section, std::uint64_t& traced, PathContext& pc) const {
+    const std::uint64_t raysBefore = pc.stats.rays;
+    Color value(0.0);
+    for (std::size_t k = 0; k < dirs.size(); ++k) {
+        const DirectionSample& s = dirs[k];
+        const Vec3 wi = frame.toWorld(s.wi);
+        if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
+        const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
+        const std::uint64_t nextPath = dirs.size() > 1 ? k + 1 : own;  // a set's directions: paths of their own
+        value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / divisor, pc);
+        ++traced;
+    }
+    if (record) pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), luminance(value), pc.stats.rays - raysBefore, section});
+    return value;
+}
+
+// A vertex after the first hit whose factor is q <= 1 (all but a few of them: splitContinuations' case n <= 1
+// without its loop): roulette with survival q, then one continuation weighted 1/q.
+Color PathTracer::rouletteContinuation(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell,
+                                       bool shadowed, double q, int depth, std::uint64_t path, const Color& throughput,
+                                       PathContext& pc) const {
+    SampleStream& samples = pc.samples;
+    if (q < 1) {  // splitContinuations' n = floor(q + u) = 1 when u < q
+        samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
+        if (samples.get1D() >= q) return Color(0.0);
+    }
+    DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
+    dirs.clear();
+    samples.setDimension(SampleDimensions::vertex(depth, path) + SampleDimensions::kEstimator);
+    estimator_.sample(sc, samples, dirs);
+    std::uint64_t traced = 0;
+    const Color value = traceContinuation(dirs, frame, ng, p + ng * epsilon_, shadowed, q, q, depth, path, throughput, records_, cell,
+                                          ears::Section::Deeper, traced, pc);
+    if (traced > 1) pc.stats.extraPaths += traced - 1;
+    return value / q;
 }
 
 // --splitting ears-orbit: a first hit's n continuations (n = 2, 4 or 8: firstHitBlock's powers of two) as one
