@@ -386,7 +386,7 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
         }
         const Color value = traceContinuation(dirs, frame, ng, origin, shadowed, q, divisor, depth, own, throughput, record, cell, section, traced, pc);
         if (record) {
-            const double y = pc.scratch.splitRecords.back().value;
+            const double y = pc.scratch.splitRecords.back().value;  // the luminance traceContinuation just recorded
             sum += y, squares += y * y;
         }
         L += value / divisor;
