@@ -384,7 +384,8 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
             samples.setDimension(SampleDimensions::vertex(depth, own) + SampleDimensions::kEstimator);
             estimator_.sample(sc, samples, dirs);
         }
-        const Color value = traceContinuation(dirs, frame, ng, origin, shadowed, q, divisor, depth, own, throughput, record, cell, section, traced, pc);
+        const Color value =
+            traceContinuation(dirs, frame, ng, origin, shadowed, q, divisor, depth, own, throughput, record, cell, section, traced, pc);
         if (record) {
             const double y = pc.scratch.splitRecords.back().value;  // the luminance traceContinuation just recorded
             sum += y, squares += y * y;
@@ -416,7 +417,8 @@ inline Color PathTracer::traceContinuation(const DirectionList& dirs, const Fram
         value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / divisor, pc);
         ++traced;
     }
-    if (record) pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), luminance(value), pc.stats.rays - raysBefore, section});
+    if (record)
+        pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), luminance(value), pc.stats.rays - raysBefore, section});
     return value;
 }
 
@@ -455,8 +457,8 @@ void PathTracer::firstHitOrbit(const ShadingContext& sc, SampleStream& samples, 
 // Next-event estimation, the same for every emitter: one chosen in proportion to its power, a direction
 // towards it, the shadow ray, and f cos / p weighted against the estimator by the power heuristic (a
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
-DirectLight PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
-                                    bool shadowed) const {
+DirectLight PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
+                                    TraceStats& stats, bool shadowed) const {
     DirectLight out;
     EmitterSample s;
     if (!emitters_.sample(p, u, s) || dot(s.wi, ng) <= 0) return out;
