@@ -29,7 +29,6 @@ def test_ratios_are_taken_pair_by_pair_and_summarised_by_their_median():
     assert rows["B peak MiB"] == (20 / 1024, 20 / 1024, 20 / 1024)
 
 
-
 BURN = "import time\nt = time.process_time()\nwhile time.process_time() - t < 0.3: pass\n"
 
 
