@@ -3,8 +3,9 @@
 // error: alpha = 0.01 over its runs (Sidak), an independent fixed seed per run. Densities that depend on
 // an outgoing direction are tested at several.
 #include "estimators/basic.h"
-#include "math/trig.h"
+#include "math/branchless.h"
 #include "math/frame.h"
+#include "math/trig.h"
 #include "sampling/alias_table.h"
 #include "sampling/warp.h"
 #include "stats.h"
@@ -13,10 +14,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <limits>
 #include <string>
 
 using namespace symphong;
@@ -52,8 +56,8 @@ test::ChiSquareOptions aroundAxis(const Vec3& axis, double concentration) {
 TEST(Trig, SinCosMatchLibmEverywhereTheWarpsAsk) {
     double worst = 0;
     const auto check = [&](double angle, SinCos r) {
-        worst = std::max({worst, std::abs(r.sin - std::sin(angle)), std::abs(r.cos - std::cos(angle)),
-                          std::abs(r.sin * r.sin + r.cos * r.cos - 1.0)});
+        worst = std::max(
+            {worst, std::abs(r.sin - std::sin(angle)), std::abs(r.cos - std::cos(angle)), std::abs(r.sin * r.sin + r.cos * r.cos - 1.0)});
     };
     const int n = 1 << 20;
     for (int i = 0; i <= n; ++i) {
@@ -113,6 +117,54 @@ TEST(Warps, ConcentricDiskStaysInTheDiskAndIsUniform) {
     EXPECT_NEAR(p, 0.25, 4 * se);
 }
 
+// The concentric map against its textbook form (Shirley and Chiu 1997, with pbrt's polar angles): for
+// |a| > |b| the radius a at phi = pi/4 (b/a), else the radius b at phi = pi/2 - pi/4 (a/b), (r cos phi,
+// r sin phi) by libm: on a grid over the square that includes its diagonals |a| = |b| (where the second
+// case holds), the axes and the corners; within 4 units of roundoff.
+TEST(Warps, ConcentricDiskIsShirleyChiusMap) {
+    const auto textbook = [](Point2 p) {
+        const double a = 2.0 * p.u - 1.0, b = 2.0 * p.v - 1.0;
+        if (a == 0 && b == 0) return Point2{0, 0};
+        const bool alongX = std::abs(a) > std::abs(b);
+        const double r = alongX ? a : b, phi = alongX ? kPi / 4.0 * (b / a) : kPi / 2.0 - kPi / 4.0 * (a / b);
+        return Point2{r * std::cos(phi), r * std::sin(phi)};
+    };
+    constexpr int n = 512;  // a multiple of 2: the grid holds u = 1/2 (a = 0) and the diagonals
+    double worst = 0;
+    int diagonal = 0;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+            const Point2 p{std::min(static_cast<double>(i) / n, kOneBelow), std::min(static_cast<double>(j) / n, kOneBelow)};
+            const Point2 got = sampleConcentricDisk(p), want = textbook(p);
+            worst = std::max({worst, std::abs(got.u - want.u), std::abs(got.v - want.v)});
+            diagonal += std::abs(2.0 * p.u - 1.0) == std::abs(2.0 * p.v - 1.0);
+        }
+    EXPECT_GT(diagonal, n);  // both diagonals were on the grid
+    EXPECT_LT(worst, 4.0 * 2.220446049250313e-16);
+}
+
+// math/branchless.h: choose and negateIf give the branch's value bit for bit, for every kind of double
+// (signed zeros, subnormals, infinities, NaNs with their payloads), under both conditions.
+TEST(Branchless, ChooseAndNegateIfGiveTheBranchesBits) {
+    const double values[] = {0.0,
+                             -0.0,
+                             1.0,
+                             -2.5,
+                             std::numeric_limits<double>::denorm_min(),
+                             -std::numeric_limits<double>::min(),
+                             std::numeric_limits<double>::max(),
+                             std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::quiet_NaN(),
+                             std::bit_cast<double>(std::uint64_t{0xfff4000000000123ull})};
+    const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+    for (const bool c : {false, true})
+        for (const double x : values) {
+            EXPECT_EQ(bits(negateIf(c, x)), bits(c ? -x : x)) << c << " " << x;
+            for (const double y : values) EXPECT_EQ(bits(choose(c, x, y)), bits(c ? x : y)) << c << " " << x << " " << y;
+        }
+}
+
 TEST(Warps, UniformTriangleIsUniform) {
     // Barycentrics (b0, b1) cut into the k^2 congruent sub-triangles of a k x k subdivision: each holds
     // 1/k^2 of the samples; the half-squares of the k x k grid outside the triangle expect 0 (a sample
@@ -161,8 +213,9 @@ TEST(EstimatorDirections, PhongMixtureFitsItsPdf) {
     };
     // Sanitized (test::kSanitized): three of the seven outgoing directions (normal, oblique, grazing),
     // every exponent and both grids, each at the full sample count; the level below follows the runs made.
-    const std::vector<Wo> wos = test::kSanitized ? std::vector<Wo>{{0, 0}, {60, 4.0}, {85, 0.3}}
-                                                 : std::vector<Wo>{{0, 0}, {30, 0.3}, {30, 2.2}, {60, 0.3}, {60, 4.0}, {85, 0.3}, {85, 5.1}};
+    const std::vector<Wo> wos = test::kSanitized
+                                    ? std::vector<Wo>{{0, 0}, {60, 4.0}, {85, 0.3}}
+                                    : std::vector<Wo>{{0, 0}, {30, 0.3}, {30, 2.2}, {60, 0.3}, {60, 4.0}, {85, 0.3}, {85, 5.1}};
     struct Mat {
         double rhoD, rhoS, n;
     };

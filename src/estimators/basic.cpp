@@ -60,13 +60,16 @@ void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples
     const PhongMaterial& m = *ctx.material;
     const double pd = diffuseProbability(m);
     const double c = dot(mirrorDirection(ctx.wo), wi);
-    const bool lobe = c > 0 && (pd < 1.0 || m.hasSpecular());
+    // The material's test first: c > 0 is a coin toss per sample where the lobe is absent (a diffuse surface).
+    const bool lobe = (pd < 1.0 || m.hasSpecular()) && c > 0;
     const double cn = lobe ? std::pow(c, m.exponent) : 0.0;
+    // cn = 0 where c <= 0 (and pd < 1 or a specular part make `lobe` c > 0): the lobe's terms below add
+    // exactly +0 there, without a test of c (which would be the coin toss again).
     double pdf = pd * (wi.z * kInvPi);
-    if (pd < 1.0) pdf += (1.0 - pd) * (c > 0 ? (m.exponent + 1.0) / kTwoPi * cn : 0.0);
+    if (pd < 1.0) pdf += (1.0 - pd) * ((m.exponent + 1.0) / kTwoPi * cn);
     if (pdf <= 0) return;
     Color f = m.rhoD * kInvPi;
-    if (m.hasSpecular() && c > 0) f += m.rhoS * ((m.exponent + 2.0) / kTwoPi * cn);
+    if (m.hasSpecular()) f += m.rhoS * ((m.exponent + 2.0) / kTwoPi * cn);
     if (isBlack(f)) return;
     out.push_back({wi, f * (wi.z / pdf), pdf});
 }

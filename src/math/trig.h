@@ -6,6 +6,7 @@
 // std::cos over the whole range).
 #pragma once
 
+#include "math/branchless.h"
 #include "math/vec3.h"
 
 #include <cmath>
@@ -29,17 +30,16 @@ inline SinCos sinCosQuarter(double x) {
 
 /// sin(2 pi v) and cos(2 pi v) for v in [0, 1] (a turn's fraction, as phi = 2 pi v of a warp): q = the
 /// nearest quarter turn to v (4v - q is exact: Sterbenz), x = (4v - q) pi/2 in [-pi/4, pi/4], then
-/// sin(q pi/2 + x), cos(q pi/2 + x) by exchanging and negating sin x and cos x.
+/// sin(q pi/2 + x), cos(q pi/2 + x) by exchanging and negating sin x and cos x:
+///   q mod 4 = 0: (sin x, cos x);  1: (cos x, -sin x);  2: (-sin x, -cos x);  3: (-cos x, sin x),
+/// i.e. an odd q exchanges them (negating the new cosine) and q mod 4 >= 2 negates both. The quarter is
+/// uniform over the samples: chosen by masks, not by a branch (math/branchless.h).
 inline SinCos sinCosTurn(double v) {
     const double w = 4.0 * v;
     const int q = static_cast<int>(w + 0.5);  // w >= 0: truncation of w + 1/2 rounds to nearest
     const SinCos r = sinCosQuarter((w - q) * (0.5 * kPi));
-    switch (q & 3) {
-        case 0: return r;
-        case 1: return {r.cos, -r.sin};
-        case 2: return {-r.sin, -r.cos};
-        default: return {-r.cos, r.sin};
-    }
+    const bool exchange = (q & 1) != 0, negate = (q & 2) != 0;
+    return {negateIf(negate, choose(exchange, r.cos, r.sin)), negateIf(negate, choose(exchange, -r.sin, r.cos))};
 }
 
 }  // namespace symphong

@@ -2,6 +2,7 @@
 // to triangles, each with its density. Solid-angle densities unless stated otherwise.
 #pragma once
 
+#include "math/branchless.h"
 #include "math/trig.h"
 #include "math/vec3.h"
 #include "sampling/rng.h"
@@ -32,13 +33,15 @@ inline double uniformHemispherePdf(const Vec3& w) { return w.z > 0 ? 1.0 / kTwoP
 inline Point2 sampleConcentricDisk(Point2 p) {
     const double a = 2.0 * p.u - 1.0, b = 2.0 * p.v - 1.0;
     if (a == 0 && b == 0) return {0, 0};
-    // phi = pi/4 (b/a), or pi/2 - pi/4 (a/b) whose cosine and sine are the sine and cosine of pi/4 (a/b).
-    if (std::abs(a) > std::abs(b)) {
-        const SinCos t = sinCosQuarter((kPi / 4.0) * (b / a));
-        return {a * t.cos, a * t.sin};
-    }
-    const SinCos t = sinCosQuarter((kPi / 4.0) * (a / b));
-    return {b * t.sin, b * t.cos};
+    // phi = pi/4 (b/a) when |a| > |b| (the point is r = a along x, at t = pi/4 (b/a) from it), else
+    // pi/2 - pi/4 (a/b) (r = b along y, t = pi/4 (a/b) from it towards x): (r cos t, r sin t) with its
+    // coordinates exchanged in the second case. Which case holds is a coin toss per sample: chosen by
+    // masks, not a branch (math/branchless.h).
+    const bool alongX = std::abs(a) > std::abs(b);
+    const double r = choose(alongX, a, b), other = choose(alongX, b, a);
+    const SinCos t = sinCosQuarter((kPi / 4.0) * (other / r));
+    const double along = r * t.cos, across = r * t.sin;
+    return {choose(alongX, along, across), choose(alongX, across, along)};
 }
 
 /// Cosine-weighted hemisphere (Malley: project the concentric disk up).  p(w) = cos(theta) / pi.
