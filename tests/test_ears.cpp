@@ -262,6 +262,7 @@ TEST(EarsGrid, EveryLevelCoversTheBoxAndTheFinestKnownCellIsChosen) {
         EXPECT_EQ(grid.cell(Vec3(-1, 0, 2), level), first);                                   // the low corner
         EXPECT_EQ(grid.cell(Vec3(1, 4, 3), level), first + r * r * r - 1);                    // the high corner
         EXPECT_EQ(grid.cell(Vec3(-50, 99, 2.5), level), grid.cell(Vec3(-1, 4, 2.5), level));  // outside: the nearest
+        EXPECT_EQ(grid.cell(Vec3(std::nan(""), 4, 2.5), level), grid.cell(Vec3(-1, 4, 2.5), level));  // NaN x: the first
         first += r * r * r;
     }
     // A finest cell's ancestor at every level is the cell that level gives its points (checked at points

@@ -417,6 +417,31 @@ TEST(Render, VarianceBudgetMatchesClosedFormsOnTheFurnace) {
     EXPECT_NEAR(b.mean / pixelVariance, 1.0, 0.25) << b.mean << " vs " << pixelVariance;
 }
 
+// Next-event estimation's MIS weight (render/path_tracer.h DirectLight::value) against the power heuristic
+// by hand: f L cos w / p with w = p^2 / (p^2 + (k p_e)^2); nothing (a light sample that did not arrive) is an
+// exact +0 whatever k; a delta emitter's contribution is not weighed.
+TEST(Render, DirectLightValueIsThePowerHeuristicsWeight) {
+    const auto expectColor = [](const Color& got, const Color& want) {
+        EXPECT_DOUBLE_EQ(got.x, want.x);
+        EXPECT_DOUBLE_EQ(got.y, want.y);
+        EXPECT_DOUBLE_EQ(got.z, want.z);
+    };
+    for (const double k : {0.0, 1.0, 8.0}) {
+        const Color zero = DirectLight{}.value(k);
+        for (int i = 0; i < 3; ++i) EXPECT_FALSE(std::signbit(zero[i]) || zero[i] != 0) << k;
+    }
+    DirectLight d;
+    d.unweighted = Color(1, 2, 3), d.cosine = 0.5, d.lightPdf = 2, d.estimatorPdf = 2;
+    expectColor(d.value(1), Color(1, 2, 3) * (0.5 * (4.0 / 8.0) / 2));   // w = 4 / (4 + 4)
+    expectColor(d.value(3), Color(1, 2, 3) * (0.5 * (4.0 / 40.0) / 2));  // w = 4 / (4 + 36)
+    expectColor(d.value(0), Color(1, 2, 3) * (0.5 / 2));                 // no estimator calls: w = 1
+    d.estimatorPdf = 0;
+    expectColor(d.value(5), Color(1, 2, 3) * (0.5 / 2));  // a direction the estimator never takes
+    DirectLight point;
+    point.unweighted = Color(4, 5, 6), point.delta = true;
+    expectColor(point.value(7), Color(4, 5, 6));
+}
+
 TEST(Render, CancellingAfterKTilesStopsThere) {
     const Scene scene = loadScene("cornell");
     const Accel accel(scene);

@@ -22,6 +22,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 
 using namespace symphong;
 
@@ -143,9 +144,9 @@ TEST(Warps, ConcentricDiskIsShirleyChiusMap) {
     EXPECT_LT(worst, 4.0 * 2.220446049250313e-16);
 }
 
-// math/branchless.h: choose and negateIf give the branch's value bit for bit, for every kind of double
-// (signed zeros, subnormals, infinities, NaNs with their payloads), under both conditions.
-TEST(Branchless, ChooseAndNegateIfGiveTheBranchesBits) {
+// math/branchless.h: choose, negateIf and clampByMasks give the branch's (std::clamp's) value bit for bit,
+// for every kind of double (signed zeros, subnormals, infinities, NaNs with their payloads).
+TEST(Branchless, ChooseNegateIfAndClampGiveTheBranchesBits) {
     const double values[] = {0.0,
                              -0.0,
                              1.0,
@@ -163,6 +164,9 @@ TEST(Branchless, ChooseAndNegateIfGiveTheBranchesBits) {
             EXPECT_EQ(bits(negateIf(c, x)), bits(c ? -x : x)) << c << " " << x;
             for (const double y : values) EXPECT_EQ(bits(choose(c, x, y)), bits(c ? x : y)) << c << " " << x << " " << y;
         }
+    for (const double v : values)
+        for (const auto& [lo, hi] : {std::pair{-1.0, 1.0}, std::pair{0.05, 8.0}, std::pair{0.0, 0.0}, std::pair{-0.0, 2.5}})
+            EXPECT_EQ(bits(clampByMasks(v, lo, hi)), bits(std::clamp(v, lo, hi))) << v << " in [" << lo << ", " << hi << "]";
 }
 
 TEST(Warps, UniformTriangleIsUniform) {

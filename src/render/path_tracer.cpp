@@ -41,8 +41,10 @@ double powerHeuristic(double a, double b) {
 }  // namespace
 
 Color DirectLight::value(double misScale) const {
-    if (weighted) return unweighted;
-    return unweighted * (cosine * powerHeuristic(lightPdf, estimatorPdf * misScale) / lightPdf);
+    if (delta) return unweighted;  // the same for every vertex of a scene's delta emitter: predicted
+    // powerHeuristic(lightPdf, b) without its tests, which lightPdf > 0 and b >= 0 make moot (1 exactly at b = 0).
+    const double a2 = lightPdf * lightPdf, b = estimatorPdf * misScale;
+    return unweighted * (cosine * (a2 / (a2 + b * b)) / lightPdf);
 }
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& estimator, TraceSettings settings,
@@ -473,13 +475,13 @@ DirectLight PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& 
     if (blocked) return out;
     if (s.delta) {
         out.unweighted = f * s.radiance * (wiLocal.z / s.pdf);
+        out.delta = true;
         return out;
     }
     out.unweighted = f * (s.radianceLater ? emitters_.background().backgroundRadiance(s.wi) : s.radiance);
     out.cosine = wiLocal.z;
     out.lightPdf = s.pdf;
     out.estimatorPdf = estimator_.misPdf(sc, wiLocal);
-    out.weighted = false;
     return out;
 }
 

@@ -102,13 +102,15 @@ struct RayBundle {
     std::size_t capacity = 0;    ///< length of `found`
 };
 
-/// Next-event estimation's contribution at a vertex before its MIS weight (PathTracer::directLight).
+/// Next-event estimation's contribution at a vertex before its MIS weight (PathTracer::directLight). As
+/// made, nothing: f L = 0 at a density of 1, which value() weighs to an exact 0 by the same formula as a
+/// sample that arrived (whether the shadow ray got through is a coin toss per vertex: no branch on it).
 struct DirectLight {
-    Color unweighted{0.0};    ///< f L (delta emitter or no MIS: the whole contribution)
+    Color unweighted{0.0};    ///< f L (a delta emitter: the whole contribution)
     double cosine = 0;        ///< cos theta of the light's direction
-    double lightPdf = 0;      ///< the light sample's density (solid angle)
+    double lightPdf = 1;      ///< the light sample's density (solid angle), > 0
     double estimatorPdf = 0;  ///< the estimator's MIS density of that direction for one call
-    bool weighted = true;     ///< `unweighted` is the contribution: nothing to weigh
+    bool delta = false;       ///< from a delta emitter: `unweighted` is the contribution, nothing to weigh
 
     /// The contribution with MIS against `misScale` estimator calls at the vertex (the first hit's split
     /// count k, EARS's q, else 1): f L cos w / p, w the power heuristic of the light's density against the

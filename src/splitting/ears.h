@@ -8,6 +8,7 @@
 // continuation's value and cost. docs/estimators.md "Efficiency-aware splitting" derives the formula.
 #pragma once
 
+#include "math/branchless.h"
 #include "math/vec3.h"
 #include "util/large_buffer.h"
 
@@ -66,15 +67,16 @@ inline double splittingFactor(double throughput, double varianceRatio, double mo
     // split > 1: split; else roulette < 1: roulette; else 1. As selects (minsd, then a blend).
     const double rouletteOrOne = roulette < 1 ? roulette : 1.0;
     const double q = split > 1 ? split : rouletteOrOne;
-    return std::clamp(q, kMinFactor, kMaxFactor);
+    return clampByMasks(q, kMinFactor, kMaxFactor);  // std::clamp's values, without its branches
 }
 
 /// Plain Russian roulette's survival probability at a vertex whose throughput's largest component is
 /// `maxThroughput`: that, clamped to [kMinFactor, 0.95] (NaN: kMinFactor). The factor of a deeper vertex
 /// with no learned cell, and the floor of a learned roulette factor under a low-discrepancy sampler.
+/// Without a branch (the throughput is a vertex's, random): !(t >= kMinFactor) holds for a NaN t too.
 inline double throughputSurvival(double maxThroughput) {
-    if (std::isnan(maxThroughput)) return kMinFactor;
-    return std::clamp(maxThroughput, kMinFactor, 0.95);
+    const double atLeast = choose(!(maxThroughput >= kMinFactor), kMinFactor, maxThroughput);
+    return choose(atLeast > 0.95, 0.95, atLeast);
 }
 
 /// A learned factor q with its roulette floored at plain roulette's survival `plain` (q < 1: the larger of
@@ -147,10 +149,13 @@ public:
         const int r = kResolution[static_cast<std::size_t>(level)];
         const auto index = [r](double x, double lo, double inv) {
             const double t = (x - lo) * inv * r;
-            if (!(t > 0)) return std::size_t{0};  // NaN too
-            // Through int: t < r <= 32, and a double's conversion to a signed integer is one instruction
-            // (to an unsigned 64-bit one, without AVX-512, a compare and a branch more).
-            return static_cast<std::size_t>(static_cast<int>(std::min(t, r - 1.0)));
+            // Clamped to [0, r - 1] after the conversion, in integers (conditional moves: which wall of
+            // the box a vertex lies on, and so whether it is in the last cell, changes from vertex to
+            // vertex; GCC made the same clamp of the double a branch). The conversion to a signed 64-bit
+            // integer is one instruction and gives INT64_MIN for a NaN (clamped to 0); a point of the scene
+            // has |t| far below 2^63.
+            const long long i = static_cast<long long>(t);
+            return static_cast<std::size_t>(std::min<long long>(std::max<long long>(i, 0), r - 1));
         };
         const std::size_t ix = index(p.x, lo_.x, inverseSize_.x), iy = index(p.y, lo_.y, inverseSize_.y),
                           iz = index(p.z, lo_.z, inverseSize_.z);
