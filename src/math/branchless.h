@@ -1,7 +1,8 @@
-// math/branchless.h — choosing between two values without a branch, for the choices in the sampling
-// warps that a random number makes (which half of the square a point fell in, which quarter turn an
-// angle is in) and in the clamps of values that change from path vertex to path vertex: a branch on such a condition is mispredicted about as often as it is taken, each a
-// pipeline flush, while a choice by bit masks costs a few integer instructions and always the same.
+// math/branchless.h — choosing between two values without a branch, for the choices that a random
+// number makes (which half of the square a sampling warp's point fell in, which quarter turn an angle is
+// in) and the clamps of values that change from path vertex to path vertex: a branch on such a condition
+// is mispredicted about as often as it is taken, each a pipeline flush, while a choice by bit masks costs
+// a few integer instructions and always the same.
 // The compiler turns a plain `c ? x : y` on doubles into a branch at x86-64's baseline (there is no
 // blend instruction before SSE4.1), so the masks are written out. The values chosen are bit for bit
 // those of the branch.
