@@ -57,8 +57,8 @@ test::ChiSquareOptions aroundAxis(const Vec3& axis, double concentration) {
 TEST(Trig, SinCosMatchLibmEverywhereTheWarpsAsk) {
     double worst = 0;
     const auto check = [&](double angle, SinCos r) {
-        worst = std::max(
-            {worst, std::abs(r.sin - std::sin(angle)), std::abs(r.cos - std::cos(angle)), std::abs(r.sin * r.sin + r.cos * r.cos - 1.0)});
+        worst = std::max({worst, std::abs(r.sin - std::sin(angle)), std::abs(r.cos - std::cos(angle)),
+                          std::abs(r.sin * r.sin + r.cos * r.cos - 1.0)});
     };
     const int n = 1 << 20;
     for (int i = 0; i <= n; ++i) {
@@ -217,9 +217,8 @@ TEST(EstimatorDirections, PhongMixtureFitsItsPdf) {
     };
     // Sanitized (test::kSanitized): three of the seven outgoing directions (normal, oblique, grazing),
     // every exponent and both grids, each at the full sample count; the level below follows the runs made.
-    const std::vector<Wo> wos = test::kSanitized
-                                    ? std::vector<Wo>{{0, 0}, {60, 4.0}, {85, 0.3}}
-                                    : std::vector<Wo>{{0, 0}, {30, 0.3}, {30, 2.2}, {60, 0.3}, {60, 4.0}, {85, 0.3}, {85, 5.1}};
+    const std::vector<Wo> wos = test::kSanitized ? std::vector<Wo>{{0, 0}, {60, 4.0}, {85, 0.3}}
+                                                 : std::vector<Wo>{{0, 0}, {30, 0.3}, {30, 2.2}, {60, 0.3}, {60, 4.0}, {85, 0.3}, {85, 5.1}};
     struct Mat {
         double rhoD, rhoS, n;
     };
