@@ -3,10 +3,13 @@
 # the study (CPU-time cost, paired repeats until each comparison is decided within 10% or 40 s), on six
 # scenes of the study: the boxes and regime scenes named below. Prints a Markdown table of efficiency
 # ratios against phong (docs/performance.md "Efficiency-aware splitting" holds its output).
-#   bash scripts/ears-study.sh [OUT] [SAMPLER] [SPP] [WxH] [REFERENCE_SPP] [SPLITS]
-# defaults /tmp/ears-study, sobol, 16, 128x96, 1024, 2,8; SPLITS "none" leaves the fixed splits out (at a large
-# size they double the run for columns that do not change the EARS column).
+#   bash scripts/ears-study.sh [OUT] [SAMPLER] [SPP] [WxH] [REFERENCE_SPP] [SPLITS] [SCENES]
+# defaults /tmp/ears-study, sobol, 16, 128x96, 1024, 2,8, six; SPLITS "none" leaves the fixed splits out (at a large
+# size they double the run for columns that do not change the EARS column). SCENES: "six" (the six below),
+# "all" (the 25 study scenes of scripts/run-studies.sh: the six boxes and every regime scene), or scene
+# names and paths separated by commas.
 #   SYMPHONG_BIN=/tmp/copy bash scripts/ears-study.sh /tmp/ears-512 sobol 64 512x512 2048 none
+#   bash scripts/ears-study.sh /tmp/ears-all sobol 64 128x96 1024 none all
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-/tmp/ears-study} sampler=${2:-sobol} spp=${3:-16} size=${4:-128x96} reference=${5:-1024} splits=${6:-2,8}
@@ -16,8 +19,18 @@ split_args=(--splits "$splits" --split-estimators phong)
 [ "$splits" = none ] && split_args=()
 bin=${SYMPHONG_BIN:-build/release/symphong}  # SYMPHONG_BIN: a copy, so that rebuilding during the run changes nothing
 [ -x "$bin" ] || bash scripts/setup.sh
-scenes=(cornell scenes/cornell-glossy-100.json scenes/regime/sky-n10.json scenes/regime/small-n10.json
-        scenes/regime/large-n100.json scenes/regime/albedo-diffuse.json)
+case ${7:-six} in
+  six) scenes=(cornell scenes/cornell-glossy-100.json scenes/regime/sky-n10.json scenes/regime/small-n10.json
+               scenes/regime/large-n100.json scenes/regime/albedo-diffuse.json) ;;
+  all) scenes=(cornell scenes/cornell-diffuse.json scenes/cornell-glossy-100.json scenes/cornell-glossy-1000.json
+               scenes/cornell-all-glossy.json scenes/mcguire-glossy.json)
+       for light in small large sky sun; do for n in 1 10 100 1000; do scenes+=("scenes/regime/$light-n$n.json"); done; done
+       scenes+=(scenes/regime/albedo-diffuse.json scenes/regime/albedo-specular.json scenes/regime/bunny.json) ;;
+  *) IFS=, read -r -a scenes <<< "$7" ;;
+esac
+for scene in "${scenes[@]}"; do
+  [ "$scene" = cornell ] || [ -f "$scene" ] || { echo "ears-study.sh: scene '$scene' is not a file (nor the built-in cornell)" >&2; exit 2; }
+done
 for scene in "${scenes[@]}"; do
   "$bin" study "$scene" --estimators phong --samplers "$sampler" --splittings none,ears "${split_args[@]}" \
     --cost cpu --spp "$spp" --repeats 6 --target-interval 0.1 --max-repeats 30 --time 40 -W "$width" -H "$height" \
