@@ -6,7 +6,7 @@
 #   bash scripts/ears-study.sh [OUT] [SAMPLER] [SPP] [WxH] [REFERENCE_SPP] [SPLITS] [SCENES]
 # defaults /tmp/ears-study, sobol, 16, 128x96, 1024, 2,8, six; SPLITS "none" leaves the fixed splits out (at a large
 # size they double the run for columns that do not change the EARS column). SCENES: "six" (the six below),
-# "all" (the 25 study scenes of scripts/run-studies.sh: the six boxes and every regime scene), or scene
+# "all" (the 25 study scenes of scripts/study-scenes.sh, which run-studies.sh runs), or scene
 # names and paths separated by commas.
 #   SYMPHONG_BIN=/tmp/copy bash scripts/ears-study.sh /tmp/ears-512 sobol 64 512x512 2048 none
 #   bash scripts/ears-study.sh /tmp/ears-all sobol 64 128x96 1024 none all
@@ -22,10 +22,7 @@ bin=${SYMPHONG_BIN:-build/release/symphong}  # SYMPHONG_BIN: a copy, so that reb
 case ${7:-six} in
   six) scenes=(cornell scenes/cornell-glossy-100.json scenes/regime/sky-n10.json scenes/regime/small-n10.json
                scenes/regime/large-n100.json scenes/regime/albedo-diffuse.json) ;;
-  all) scenes=(cornell scenes/cornell-diffuse.json scenes/cornell-glossy-100.json scenes/cornell-glossy-1000.json
-               scenes/cornell-all-glossy.json scenes/mcguire-glossy.json)
-       for light in small large sky sun; do for n in 1 10 100 1000; do scenes+=("scenes/regime/$light-n$n.json"); done; done
-       scenes+=(scenes/regime/albedo-diffuse.json scenes/regime/albedo-specular.json scenes/regime/bunny.json) ;;
+  all) source scripts/study-scenes.sh && scenes=("${boxes[@]}" "${regime[@]}") ;;
   *) IFS=, read -r -a scenes <<< "$7" ;;
 esac
 for scene in "${scenes[@]}"; do

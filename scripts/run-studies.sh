@@ -23,13 +23,7 @@ bin=${SYMPHONG_BIN:-build/release/symphong}  # SYMPHONG_BIN: a copy, so that reb
 top=${SYMPHONG_STUDY_OUT:-docs/study}
 start=$(date +%s)
 
-boxes=(cornell scenes/cornell-diffuse.json scenes/cornell-glossy-100.json scenes/cornell-glossy-1000.json
-       scenes/cornell-all-glossy.json scenes/mcguire-glossy.json)
-regime=()
-for light in small large sky sun; do
-  for n in 1 10 100 1000; do regime+=("scenes/regime/$light-n$n.json"); done
-done
-regime+=(scenes/regime/albedo-diffuse.json scenes/regime/albedo-specular.json scenes/regime/bunny.json)
+source scripts/study-scenes.sh  # boxes, regime
 
 pairs=(--symmetric-modes branch,spread --splits 2,4,8 --split-estimators phong --orbits 2,4,8
        --cost cpu --target-interval 0.1 --max-repeats 200 --page-top-spp-only)

@@ -2,7 +2,6 @@
 named, before any study runs; `all` runs the 25 study scenes (the six boxes and every regime scene), each once,
 and prints one row for each. The program is a stand-in (SYMPHONG_BIN) that records its scene and writes the
 results.json that the script's table reads, so no render is made."""
-import json
 import os
 import pathlib
 import subprocess
