@@ -824,6 +824,7 @@ TEST(EarsCheckpoint, ResumesInsideAnEpochBitForBit) {
     EXPECT_EQ(resumed.ears->factors.varianceRatio, part.ears->factors.varianceRatio);
     EXPECT_EQ(resumed.ears->factors.scale, part.ears->factors.scale);
     EXPECT_EQ(resumed.ears->factors.firstHit, part.ears->factors.firstHit);
+    EXPECT_EQ(resumed.ears->factors.misShare, part.ears->factors.misShare);
     EXPECT_EQ(std::memcmp(resumed.ears->sums().data(), part.ears->sums().data(), part.ears->sums().size() * sizeof(ears::CellSums)), 0);
     renderSamples(scene, accel, *est, rs, resumed, 16);
     EXPECT_TRUE(sameBits(whole.image(), resumed.image()));

@@ -229,11 +229,12 @@ void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
             l.factors.varianceRatio.resize(static_cast<std::size_t>(cells));
             l.factors.momentRatio.resize(static_cast<std::size_t>(cells));
             l.factors.firstHit.resize(static_cast<std::size_t>(cells));
+            l.factors.misShare.resize(static_cast<std::size_t>(cells));
         }
         l.clearSums();
     }
     if (epochAndFactors[1])
-        for (std::vector<float>* table : {&l.factors.varianceRatio, &l.factors.momentRatio, &l.factors.firstHit})
+        for (std::vector<float>* table : {&l.factors.varianceRatio, &l.factors.momentRatio, &l.factors.firstHit, &l.factors.misShare})
             MPI_Bcast(table->data(), cells, MPI_FLOAT, 0, MPI_COMM_WORLD);
 }
 
@@ -245,7 +246,7 @@ struct SlotSums {
 
 /// --splitting ears: every rank's sums of the epoch's records added into rank 0's (exact integers: the
 /// same in any order, so the same as one process's). A rank sends only the slots its records reached
-/// (Learning::occupied: the Cornell box's about a fifth of the finest cells), not the whole 5.4 MB table.
+/// (Learning::occupied: the Cornell box's about a fifth of the finest cells), not the whole 7.2 MB table.
 void gatherLearning(const MpiJob& job, RenderState& state) {
     const ears::SumTable& sums = state.ears->sums();
     if (!job.root()) {

@@ -84,7 +84,8 @@ std::size_t firstUnwrittenSum(const RenderState& state) {
 /// cells that have sums, each cell's number then its values. Empty when the render does not learn.
 struct EarsSections {
     std::vector<std::uint32_t> factorCells;
-    std::vector<float> factorRatios;  ///< three a cell: sqrt(v / C_x), sqrt(M / C_x), the first hit's q
+    std::vector<float> factorRatios;  ///< four a cell: sqrt(v / C_x), sqrt(M / C_x), the first hit's q and MIS share
+    std::size_t valuesPerCell = 4;    ///< three in checkpoints written before the MIS share (it reads as -1)
     std::vector<std::uint32_t> sumCells;
     std::vector<ears::CellSums> sums;
 };
@@ -95,9 +96,9 @@ EarsSections packEars(const std::optional<ears::Learning>& learning) {
     if (!learning) return e;
     const ears::Factors& f = learning->factors;
     for (std::size_t c = 0; c < f.momentRatio.size(); ++c)
-        if (f.momentRatio[c] >= 0 || f.firstHit[c] >= 0) {
+        if (f.momentRatio[c] >= 0 || f.firstHit[c] >= 0 || f.misShare[c] >= 0) {
             e.factorCells.push_back(static_cast<std::uint32_t>(c));
-            e.factorRatios.insert(e.factorRatios.end(), {f.varianceRatio[c], f.momentRatio[c], f.firstHit[c]});
+            e.factorRatios.insert(e.factorRatios.end(), {f.varianceRatio[c], f.momentRatio[c], f.firstHit[c], f.misShare[c]});
         }
     const ears::SumTable& sums = learning->sums();
     for (std::size_t c = 0; c < sums.size(); ++c)
@@ -132,6 +133,7 @@ nlohmann::json earsHeader(const ears::Learning& l, const EarsSections& e) {
             {"samples_at_start", l.samplesAtStart},
             {"variance_at_start", l.varianceAtStart},
             {"factor_cells", e.factorCells.size()},
+            {"factor_values", e.valuesPerCell},
             {"sum_cells", e.sumCells.size()}};
 }
 
@@ -171,9 +173,14 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
         l.factors.varianceRatio.assign(ears::Grid::cellCount(), -1.0f);
         l.factors.momentRatio.assign(ears::Grid::cellCount(), -1.0f);
         l.factors.firstHit.assign(ears::Grid::cellCount(), -1.0f);
+        l.factors.misShare.assign(ears::Grid::cellCount(), -1.0f);
     }
+    // "factor_values" is absent from checkpoints written before the first hit's MIS share: three a cell.
+    e.valuesPerCell = j.contains("factor_values") ? count("factor_values") : 3;
+    if (e.valuesPerCell != 3 && e.valuesPerCell != 4)
+        throw std::invalid_argument(fmt::format("ears factor_values: {} is not 3 or 4", e.valuesPerCell));
     e.factorCells.resize(factorCells);
-    e.factorRatios.resize(3 * factorCells);
+    e.factorRatios.resize(e.valuesPerCell * factorCells);
     e.sumCells.resize(sumCells);
     e.sums.resize(sumCells);
     return l;
@@ -186,9 +193,11 @@ bool unpackEars(const EarsSections& e, ears::Learning& l) {
     if (!e.factorCells.empty() && l.factors.empty()) return false;
     for (std::size_t i = 0; i < e.factorCells.size(); ++i) {
         if (e.factorCells[i] >= cells) return false;
-        l.factors.varianceRatio[e.factorCells[i]] = e.factorRatios[3 * i];
-        l.factors.momentRatio[e.factorCells[i]] = e.factorRatios[3 * i + 1];
-        l.factors.firstHit[e.factorCells[i]] = e.factorRatios[3 * i + 2];
+        const float* v = &e.factorRatios[e.valuesPerCell * i];
+        l.factors.varianceRatio[e.factorCells[i]] = v[0];
+        l.factors.momentRatio[e.factorCells[i]] = v[1];
+        l.factors.firstHit[e.factorCells[i]] = v[2];
+        if (e.valuesPerCell == 4) l.factors.misShare[e.factorCells[i]] = v[3];
     }
     for (std::size_t i = 0; i < e.sumCells.size(); ++i) {
         if (e.sumCells[i] >= l.sums().size()) return false;

@@ -1,7 +1,5 @@
 #include "render/path_tracer.h"
 
-#include "estimators/basic.h"
-#include "estimators/symmetric_mix.h"
 #include "math/frame.h"
 #include "scene/shading_normal.h"
 #include "scene/surface.h"
@@ -146,6 +144,7 @@ inline void PathTracer::prefetchFactor(std::size_t finest, int depth) const {
     if (f.empty()) return;
     if (depth == 0) {
         __builtin_prefetch(&f.firstHit[finest]);
+        __builtin_prefetch(&f.misShare[finest]);
     } else {
         __builtin_prefetch(&f.momentRatio[finest]);
         __builtin_prefetch(&f.varianceRatio[finest]);
@@ -174,9 +173,19 @@ inline double PathTracer::continuationFactor(std::size_t finest, const Color& th
     return q;
 }
 
+inline double PathTracer::misScale(std::size_t finest, double q, int depth) const {
+    const ears::Factors& f = learning_->factors;
+    return depth == 0 && !f.empty() && f.misShare[finest] >= 0 ? 1 + (q - 1) * f.misShare[finest] : q;
+}
+
 Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int depth, std::uint64_t path, double prevMisPdf,
                         const Color& throughput, PathContext& pc) const {
-    if (!found) return escaped(d, depth, prevMisPdf);
+    if (!found) {
+        Color emitted;
+        const Color L = escaped(d, depth, prevMisPdf, emitted);
+        if (depth == 1 && environmentSampling_) pc.scratch.bounceEmission = emitted;  // for a first hit's BrdfHit record
+        return L;
+    }
     const Hit& hit = *found;
     const Triangle& tri = scene_.triangles[hit.prim];
     const PhongMaterial& baseMaterial = scene_.materials[tri.material];
@@ -195,8 +204,11 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const bool frontFace = dot(ng, d) < 0;
 
     Color L(0.0);
-    if (mat.isEmissive() && frontFace)
-        L += (textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission) * emissionWeight(hit, d, depth, prevMisPdf);
+    if (mat.isEmissive() && frontFace) {
+        const Color emitted = textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission;
+        if (depth == 1 && triangleSampling_) pc.scratch.bounceEmission = emitted;  // for a first hit's BrdfHit record
+        L += emitted * emissionWeight(hit, d, depth, prevMisPdf);
+    }
     if (depth >= settings_.maxDepth) return L;
 
     if (!frontFace) ng = -ng;
@@ -219,11 +231,13 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     // --splitting ears decides the vertex's continuations after the shadow ray (its factor's cache line has
     // arrived by then) and before light sampling's MIS weight, which needs q.
     const double q = learning_ ? continuationFactor(cell, throughput, depth) : 0.0;
-    if (lightSampling_) L += direct.value(q > 0 ? q : depth == 0 ? settings_.firstHitSplit : 1);
     if (q > 0) {
+        const double mis = misScale(cell, q, depth);
+        if (lightSampling_) L += direct.value(mis);
         if (depth > 0 && q <= 1) return L + rouletteContinuation(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
-        return L + splitContinuations(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
+        return L + splitContinuations(sc, frame, ng, p, cell, shadowed, q, mis, depth, path, throughput, pc);
     }
+    if (lightSampling_) L += direct.value(depth == 0 ? settings_.firstHitSplit : 1);
     return L + continuePath(sc, frame, ng, p, shadowed, depth, path, throughput, pc);
 }
 
@@ -340,122 +354,6 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
     }
 }
 
-Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell,
-                                     bool shadowed, double q, int depth, std::uint64_t path, const Color& throughput,
-                                     PathContext& pc) const {
-    SampleStream& samples = pc.samples;
-    // E[n] = q: floor(q), one more with probability q - floor(q). The first hit's q is a power of two already
-    // (continuationFactor: firstHitBlock), so n = q there and its continuations are an aligned block of its
-    // sample's block points (SampleStream::blockContinuation). A whole q draws nothing.
-    // q in [kMinFactor, kMaxFactor]: truncation is floor (std::floor is a dozen instructions without SSE4.1).
-    std::uint32_t n = static_cast<std::uint32_t>(q);
-    const double whole = n;
-    if (q > whole) {
-        samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
-        n += samples.get1D() < q - whole ? 1u : 0u;
-    }
-    // Splitting (q >= 1, so n >= 1): the mean of the n continuations, unbiased for any n drawn apart from
-    // their values, and without the variance that weights 1/q would add (n / q varies: mean^2 Var(n) / q^2,
-    // which dwarfs the continuations' own variance under smooth light). Roulette (q < 1): 1/q.
-    const double divisor = q >= 1 ? static_cast<double>(n) : q;
-    const Vec3 origin = p + ng * epsilon_;
-    DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
-    Color L(0.0);
-    std::uint64_t traced = 0;
-    double sum = 0, squares = 0;  // of the continuations' luminances: the first hit's within-vertex variance
-    const ears::Section section = depth == 0 ? ears::Section::FirstHit : ears::Section::Deeper;
-    const bool record = depth == 0 ? firstHitRecords_ : records_;
-    const bool orbit = depth == 0 && (n == 2 || n == 4 || n == 8) && settings_.splitting == SplittingMode::EarsOrbit;
-    if (orbit) firstHitOrbit(sc, samples, n, pc.scratch.orbit);
-    for (std::uint32_t j = 0; j < n; ++j) {
-        const std::uint64_t own = j == 0 ? path : SampleDimensions::splitPath(path, depth, j);
-        dirs.clear();
-        if (orbit) {
-            // --splitting ears-orbit: continuation j is copy j of the vertex's orbit, with phong's density (the
-            // estimator's: settings refuse ears-orbit with another), so weighted and counted as an independent one.
-            const Vec3& wi = pc.scratch.orbit[j];
-            if (wi.z > 0) pushWeighted(sc, wi, SymmetricMixEstimator::directionDensity(sc, wi), dirs);
-        } else if (depth == 0) {
-            // At the first hit continuation j reads block point j of its sample (SampleStream::blockContinuation)
-            // at the first-hit estimator's dimensions: the vertex's n continuations are a net, and so is
-            // continuation j over the pixel's camera samples.
-            SampleStream block = samples.blockContinuation(j);
-            block.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream));
-            estimator_.sample(sc, block, dirs);
-        } else {
-            samples.setDimension(SampleDimensions::vertex(depth, own) + SampleDimensions::kEstimator);
-            estimator_.sample(sc, samples, dirs);
-        }
-        const Color value =
-            traceContinuation(dirs, frame, ng, origin, shadowed, q, divisor, depth, own, throughput, record, cell, section, traced, pc);
-        if (record) {
-            const double y = pc.scratch.splitRecords.back().value;  // the luminance traceContinuation just recorded
-            sum += y, squares += y * y;
-        }
-        L += value / divisor;
-    }
-    if (depth == 0 && record) {
-        const double within = n > 1 ? std::max(0.0, squares - sum * sum / n) / (n - 1.0) : 0.0;
-        pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), within, n > 1 ? 1u : 0u, ears::Section::FirstHitVertex});
-    }
-    if (traced > 1) pc.stats.extraPaths += traced - 1;
-    return L;
-}
-
-// One continuation of a vertex under --splitting ears: the estimator's directions in `dirs` (one for every
-// estimator but a set's), each traced with weight 1/divisor in its throughput and MIS density times q, and,
-// with `record`, reported as one record of its luminance and rays (splitting/learning.h Record).
-inline Color PathTracer::traceContinuation(const DirectionList& dirs, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed,
-                                           double q, double divisor, int depth, std::uint64_t own, const Color& throughput, bool record,
-                                           std::size_t cell, ears::Section section, std::uint64_t& traced, PathContext& pc) const {
-    const std::uint64_t raysBefore = pc.stats.rays;
-    Color value(0.0);
-    for (std::size_t k = 0; k < dirs.size(); ++k) {
-        const DirectionSample& s = dirs[k];
-        const Vec3 wi = frame.toWorld(s.wi);
-        if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
-        const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
-        const std::uint64_t nextPath = dirs.size() > 1 ? k + 1 : own;  // a set's directions: paths of their own
-        value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * q, throughput * weight / divisor, pc);
-        ++traced;
-    }
-    if (record)
-        pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), luminance(value), pc.stats.rays - raysBefore, section});
-    return value;
-}
-
-// A vertex after the first hit whose factor is q <= 1 (all but a few of them: splitContinuations' case n <= 1
-// without its loop): roulette with survival q, then one continuation weighted 1/q.
-Color PathTracer::rouletteContinuation(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell,
-                                       bool shadowed, double q, int depth, std::uint64_t path, const Color& throughput,
-                                       PathContext& pc) const {
-    SampleStream& samples = pc.samples;
-    if (q < 1) {  // splitContinuations' n = floor(q + u) = 1 when u < q
-        samples.setDimension(SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette);
-        if (samples.get1D() >= q) return Color(0.0);
-    }
-    DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
-    dirs.clear();
-    samples.setDimension(SampleDimensions::vertex(depth, path) + SampleDimensions::kEstimator);
-    estimator_.sample(sc, samples, dirs);
-    std::uint64_t traced = 0;
-    const Color value = traceContinuation(dirs, frame, ng, p + ng * epsilon_, shadowed, q, q, depth, path, throughput, records_, cell,
-                                          ears::Section::Deeper, traced, pc);
-    if (traced > 1) pc.stats.extraPaths += traced - 1;
-    return value / q;
-}
-
-// --splitting ears-orbit: a first hit's n continuations (n = 2, 4 or 8: firstHitBlock's powers of two) as one
-// orbit of R = n symmetric copies of one point (estimators/symmetric_mix.h), its point and family offset the
-// first-hit estimator's three dimensions of the camera sample (Sobol' dimensions 0-2 of one index under sobol).
-void PathTracer::firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n, std::array<Vec3, 8>& copies) const {
-    samples.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream));
-    const Vec3 u = samples.get3D();
-    const int orbit = static_cast<int>(n);
-    SymmetricMixEstimator::OrbitCopies orbitCopies(*sc.material, sc.wo, SymmetricMixEstimator::makeOrbit({u.x, u.y}, u.z, orbit), orbit);
-    for (int j = 0; j < orbit; ++j) copies[static_cast<std::size_t>(j)] = orbitCopies(j);
-}
-
 // Next-event estimation, the same for every emitter: one chosen in proportion to its power, a direction
 // towards it, the shadow ray, and f cos / p weighted against the estimator by the power heuristic (a
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
@@ -485,14 +383,15 @@ DirectLight PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& 
     return out;
 }
 
-Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf) const {
+Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf, Color& emitted) const {
     const Vec3 dir = normalize(d);
     const Emitter& background = emitters_.background();
     double w = 1.0;
     if (depth > 0 && environmentSampling_)
         w = powerHeuristic(prevMisPdf,
                            background.pdfOfHit(dir, std::numeric_limits<double>::infinity(), emitters_.backgroundProbability()));
-    return background.backgroundRadiance(dir) * w;
+    emitted = background.backgroundRadiance(dir);
+    return emitted * w;
 }
 
 }  // namespace symphong

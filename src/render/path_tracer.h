@@ -125,6 +125,9 @@ struct PathScratch {
     CacheLineVector<PhongMaterial> materials;   ///< one per depth: a textured material's parameters at its vertex
     std::vector<ears::Record> splitRecords;     ///< --splitting ears: the continuations traced since the caller last took them
     std::array<Vec3, 8> orbit;                  ///< --splitting ears-orbit: the first hit's copies (PathTracer::firstHitOrbit)
+    /// The emission (unweighted) that a ray from a first hit met at the next vertex, when light sampling could
+    /// have found it too (else 0): set by that vertex, for --splitting ears's BrdfHit records.
+    Color bounceEmission{0.0};
 };
 
 class PathTracer {
@@ -186,10 +189,14 @@ private:
     /// throughput's largest component, at most 0.95, from it on).
     double continuationFactor(std::size_t finest, const Color& throughput, int depth) const;
     /// --splitting ears: fetches into the cache the entries of finest cell `finest` that continuationFactor
-    /// will read at this depth (a hint: no effect on any value).
+    /// and misScale will read at this depth (a hint: no effect on any value).
     void prefetchFactor(std::size_t finest, int depth) const;
+    /// --splitting ears: the number of estimator calls that a vertex with factor q stands for in MIS: q, at
+    /// the first hit 1 + (q - 1) t with its cell's learned MIS share t (splitting/ears.h misShare) where it
+    /// has one.
+    double misScale(std::size_t finest, double q, int depth) const;
     /// --splitting ears: floor(q + u) = n continuations (at the first hit a power of two), averaged (weight 1/n; under roulette, q < 1,
-    /// 1/q), their directions' MIS densities times q; each is reported with its value and rays in
+    /// 1/q), their directions' MIS densities times `mis` (misScale); each is reported with its value and rays in
     /// scratch.splitRecords (in cell `cell`, the vertex's finest) unless this is the render's last epoch. Continuation j >= 1 starts a
     /// path of its own (SampleDimensions::splitPath), and at the first hit reads the estimator as block
     /// point j of its sample (SampleStream::blockContinuation): no two calls in a pixel share a number.
@@ -198,13 +205,14 @@ private:
     /// was zeroed on every call, 14% of that function's time).
     void firstHitOrbit(const ShadingContext& sc, SampleStream& samples, std::uint32_t n, std::array<Vec3, 8>& copies) const;
     Color splitContinuations(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
-                             double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
+                             double q, double mis, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// --splitting ears: a vertex after the first hit with q <= 1: splitContinuations for n <= 1, without its loop.
     Color rouletteContinuation(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
                                double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// --splitting ears: one continuation's directions traced from `origin` (weights 1/divisor, MIS densities
-    /// times q) and, with `record`, reported in scratch.splitRecords; `traced` counts the rays it started.
-    Color traceContinuation(const DirectionList& dirs, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed, double q,
+    /// times `mis`) and, with `record`, reported in scratch.splitRecords (a first hit's also as a BrdfHit
+    /// record); `traced` counts the rays it started.
+    Color traceContinuation(const DirectionList& dirs, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed, double mis,
                             double divisor, int depth, std::uint64_t own, const Color& throughput, bool record, std::size_t cell,
                             ears::Section section, std::uint64_t& traced, PathContext& pc) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
@@ -219,8 +227,8 @@ private:
     DirectLight directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
                             bool shadowed) const;
     /// Radiance of a ray that left the scene along d: the background (MIS-weighted against its light
-    /// sampling from the previous vertex when it is light-sampled).
-    Color escaped(const Vec3& d, int depth, double prevMisPdf) const;
+    /// sampling from the previous vertex when it is light-sampled); `emitted`: the background unweighted.
+    Color escaped(const Vec3& d, int depth, double prevMisPdf, Color& emitted) const;
 
     const Scene& scene_;
     const Accel& accel_;

@@ -62,6 +62,12 @@ double CellSums::mean() const { return count ? toDouble(wide(values)) / static_c
 double CellSums::secondMoment() const { return count ? toDouble(wide(squares)) / static_cast<double>(count) : 0.0; }
 double CellSums::meanCost() const { return count ? static_cast<double>(cost) / static_cast<double>(count) : 0.0; }
 
+double misShare(const CellSums& brdf) {
+    if (brdf.count < kMinRecords) return -1;
+    const double rate = static_cast<double>(brdf.cost) / static_cast<double>(brdf.count);
+    return std::clamp((rate - kUnfoldedHitRate) / (kFoldedHitRate - kUnfoldedHitRate), 0.0, 1.0);
+}
+
 Grid::Grid(const Vec3& lo, const Vec3& hi) {
     const Vec3 margin(1e-3 * std::max(length(hi - lo), 1e-6));
     *this = fromBox(lo - margin, hi + margin);
@@ -213,7 +219,7 @@ std::vector<FirstHitCell> firstHitModel(const SumTable& sums, const CellSet& occ
 /// of the 32,768 finest cells.
 void fillFromCoarserCells(Factors& f) {
     const std::size_t cells = Grid::cellCount(), finest = Grid::firstCell(Grid::kLevels - 1);
-    std::vector<std::int32_t> nearestMoment(finest, -1), nearestFirstHit(finest, -1);
+    std::vector<std::int32_t> nearestMoment(finest, -1), nearestFirstHit(finest, -1), nearestShare(finest, -1);
     for (int level = 0; level < Grid::kLevels - 1; ++level) {
         const auto r = static_cast<std::size_t>(Grid::kResolution[static_cast<std::size_t>(level)]);
         const std::size_t first = Grid::firstCell(level), parentFirst = level > 0 ? Grid::firstCell(level - 1) : 0;
@@ -221,21 +227,25 @@ void fillFromCoarserCells(Factors& f) {
             const std::size_t c = first + i;
             std::int32_t moment = f.momentRatio[c] >= 0 ? static_cast<std::int32_t>(c) : -1;
             std::int32_t hit = f.firstHit[c] >= 0 ? static_cast<std::int32_t>(c) : -1;
-            if (level > 0 && (moment < 0 || hit < 0)) {
+            std::int32_t mis = f.misShare[c] >= 0 ? static_cast<std::int32_t>(c) : -1;
+            if (level > 0 && (moment < 0 || hit < 0 || mis < 0)) {
                 const std::size_t ix = i % r, iy = i / r % r, iz = i / (r * r), half = r / 2;
                 const std::size_t parent = parentFirst + (iz / 2 * half + iy / 2) * half + ix / 2;
                 if (moment < 0) moment = nearestMoment[parent];
                 if (hit < 0) hit = nearestFirstHit[parent];
+                if (mis < 0) mis = nearestShare[parent];
             }
-            nearestMoment[c] = moment, nearestFirstHit[c] = hit;
+            nearestMoment[c] = moment, nearestFirstHit[c] = hit, nearestShare[c] = mis;
         }
     }
     for (std::size_t c = finest; c < cells; ++c) {
-        if (f.momentRatio[c] >= 0 && f.firstHit[c] >= 0) continue;
+        if (f.momentRatio[c] >= 0 && f.firstHit[c] >= 0 && f.misShare[c] >= 0) continue;
         const std::size_t parent = Grid::ancestor(c, Grid::kLevels - 2);
         if (const std::int32_t a = nearestMoment[parent]; f.momentRatio[c] < 0 && a >= 0)
             f.momentRatio[c] = f.momentRatio[static_cast<std::size_t>(a)], f.varianceRatio[c] = f.varianceRatio[static_cast<std::size_t>(a)];
         if (const std::int32_t a = nearestFirstHit[parent]; f.firstHit[c] < 0 && a >= 0) f.firstHit[c] = f.firstHit[static_cast<std::size_t>(a)];
+        if (const std::int32_t a = nearestShare[parent]; f.misShare[c] < 0 && a >= 0)
+            f.misShare[c] = f.misShare[static_cast<std::size_t>(a)];
     }
 }
 
@@ -250,6 +260,7 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const Cell
     f.varianceRatio.assign(cells, -1.0f);
     f.momentRatio.assign(cells, -1.0f);
     f.firstHit.assign(cells, -1.0f);
+    f.misShare.assign(cells, -1.0f);
     const std::vector<float> variance = firstHitVariances(sums, occupied);
     deeperRatios(sums, occupied, f);
     const std::vector<FirstHitCell> model = firstHitModel(sums, occupied, variance, N);
@@ -269,6 +280,10 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const Cell
             f.firstHit[c] = static_cast<float>(
                 std::clamp(f.scale * std::sqrt(variance[c] / std::max(1.0, firstHit[c].meanCost())), 1.0, kMaxFactor));
     });
+    // The first hit's MIS shares, in every cell (of every level) that holds its continuations.
+    const std::size_t brdfSlot = sectionStart(Section::BrdfHit);
+    occupied.forEach(brdfSlot, brdfSlot + cells,
+                     [&](std::size_t slot) { f.misShare[slot - brdfSlot] = static_cast<float>(misShare(sums[slot])); });
     fillFromCoarserCells(f);
     return f;
 }

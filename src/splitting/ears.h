@@ -3,7 +3,8 @@
 // own earlier samples. Owns the formula of the factor, the learned structure (a grid over the scene's
 // bounds at several resolutions), its statistics, kept exactly in integers so that the learned factors do
 // not depend on the order in which threads or ranks add to them, the schedule of learning (epochs of
-// doubling sample counts, splitting/learning.h) and the factors' fixed point on a model (for tests). It
+// doubling sample counts, splitting/learning.h), the share of a split first hit's continuations that its
+// MIS counts (misShare), and the factors' fixed point on a model (for tests). It
 // knows nothing of rays: the path tracer (render/) asks it for a factor at a point and tells it each
 // continuation's value and cost. docs/estimators.md "Efficiency-aware splitting" derives the formula.
 #pragma once
@@ -122,7 +123,7 @@ struct CellSums {
     double meanCost() const;      ///< mean rays (0 when empty)
 };
 
-/// An epoch's sums: kSections x Grid::cellCount() cells (5.4 MB), on huge pages where the system offers them
+/// An epoch's sums: kSections x Grid::cellCount() cells (7.2 MB), on huge pages where the system offers them
 /// (util/large_buffer.h: first touched by every render that learns).
 using SumTable = LargeBufferVector<CellSums>;
 
@@ -187,7 +188,7 @@ private:
 
 /// A set of a SumTable's cells, one bit a cell: the cells that hold records, kept as records arrive
 /// (Learning), so that the end of an epoch carries up, reads and clears those cells alone instead of the
-/// whole 5.4 MB table (a scene's surfaces cross a small part of the grid: the Cornell box's about a fifth
+/// whole 7.2 MB table (a scene's surfaces cross a small part of the grid: the Cornell box's about a fifth
 /// of the finest cells). Visited in increasing order, as a scan of the table would visit them.
 class CellSet {
 public:
@@ -222,25 +223,44 @@ private:
 /// The cells of `sums` that hold records, by a scan of the whole table.
 CellSet occupiedCells(const SumTable& sums);
 
-/// What the sums of an epoch hold, in three sections of Grid::cellCount() cells each (Learning::sums):
+/// What the sums of an epoch hold, in four sections of Grid::cellCount() cells each (Learning::sums):
 ///  - Deeper: continuations of vertices after the first hit (count, rays, values and squares);
 ///  - FirstHit: continuations of first-hit vertices (the same);
 ///  - FirstHitVertex: first-hit vertices, one record each: count = vertices, cost = those with two or more
 ///    continuations, values = the sum of their continuations' sample variances (the within-vertex
 ///    variance, which splitting divides by n; the spread of means across a cell, which it does not, is
-///    left out).
-enum class Section : std::uint8_t { Deeper = 0, FirstHit = 1, FirstHitVertex = 2 };
-inline constexpr int kSections = 3;
+///    left out);
+///  - BrdfHit: first-hit continuations, one record each: the luminance of f cos / p times the emission its
+///    ray met at the next vertex (0 when it met none that light sampling could also have found), cost 1
+///    when it met some: the share of continuations that find a light, for misShare.
+enum class Section : std::uint8_t { Deeper = 0, FirstHit = 1, FirstHitVertex = 2, BrdfHit = 3 };
+inline constexpr int kSections = 4;
 /// The first slot of a section in the sums (and in a CellSet of them): cell c of it is slot start + c.
 inline std::size_t sectionStart(Section section) { return Grid::cellCount() * static_cast<std::size_t>(section); }
 
-/// What a render learned for an epoch: per cell sqrt(v / C_x) and sqrt(M / C_x) of the deeper vertices
-/// and the first hit's factor q (negative: too few records to say), and the scale sqrt(C / V) at the
-/// optimum. Every finest cell holds its nearest estimate (its own, else its nearest coarser cell's:
-/// learnFactors fills them in), so a finest cell's entry is what cellAt finds; the path tracer reads it
-/// directly.
+/// The first hit's continuations find a light at most this often (a share of them) where its MIS counts
+/// one estimator call however many continuations the vertex has, and at least kFoldedHitRate where it
+/// counts all of them (linearly in between): see misShare.
+inline constexpr double kUnfoldedHitRate = 0.25;
+inline constexpr double kFoldedHitRate = 0.5;
+
+/// The share t in [0, 1] of a first hit's continuations beyond the first that its MIS counts, from a
+/// cell's BrdfHit sums: its n continuations stand for 1 + (n - 1) t estimator calls in the power heuristic
+/// against light sampling's one (PathTracer::misScale). t = 0 where at most kUnfoldedHitRate of the
+/// continuations found a light, 1 from kFoldedHitRate on, linear in between; -1 (no estimate: all of
+/// them, the plain count) below kMinRecords records. Where the BRDF's directions seldom find the light
+/// (a small or distant light) each is a rare bright hit, and counting n of them against one light sample
+/// gives those hits weight that light sampling would have spent better (docs/estimators.md "MIS at a
+/// split first hit"); where they mostly do (a sky), the count is what makes splitting pay.
+double misShare(const CellSums& brdf);
+
+/// What a render learned for an epoch: per cell sqrt(v / C_x) and sqrt(M / C_x) of the deeper vertices,
+/// the first hit's factor q and its MIS share (misShare) (negative: too few records to say), and the scale
+/// sqrt(C / V) at the optimum. Every finest cell holds its nearest estimate (its own, else its nearest
+/// coarser cell's: learnFactors fills them in), so a finest cell's entry is what cellAt finds; the path
+/// tracer reads it directly.
 struct Factors {
-    std::vector<float> varianceRatio, momentRatio, firstHit;
+    std::vector<float> varianceRatio, momentRatio, firstHit, misShare;
     double scale = 0;
 
     bool empty() const { return momentRatio.empty(); }

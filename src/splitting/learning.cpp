@@ -27,7 +27,7 @@ void Learning::clearSums() {
 
 std::size_t Learning::bytes() const {
     const auto factorBytes = [](const Factors& f) {
-        return (f.varianceRatio.capacity() + f.momentRatio.capacity() + f.firstHit.capacity()) * sizeof(float);
+        return (f.varianceRatio.capacity() + f.momentRatio.capacity() + f.firstHit.capacity() + f.misShare.capacity()) * sizeof(float);
     };
     return sums_.capacity() * sizeof(CellSums) + occupied_.capacity() / 8 + factorBytes(factors) + factorBytes(spare_);
 }
@@ -68,13 +68,17 @@ void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64
     propagateToCoarserCells(sums_, occupied_);
     Factors next = learnFactors(sums_, m, occupied_, std::move(spare_));
     // After a probe (see kProbeSamples) the first hit's factors may fall at the end of epoch 0, never rise,
-    // and hold from then on.
+    // and hold from then on; its MIS shares are epoch 0's (the probe's where epoch 0 has none), held as well
+    // (no first-hit records after epoch 0).
     if (probed && !factors.empty() && !next.empty()) {
         if (epoch == 0) {
-            for (std::size_t c = 0; c < next.firstHit.size(); ++c)
+            for (std::size_t c = 0; c < next.firstHit.size(); ++c) {
                 if (factors.firstHit[c] >= 0 && (next.firstHit[c] < 0 || factors.firstHit[c] < next.firstHit[c])) next.firstHit[c] = factors.firstHit[c];
+                if (next.misShare[c] < 0) next.misShare[c] = factors.misShare[c];
+            }
         } else {
             std::swap(next.firstHit, factors.firstHit);
+            std::swap(next.misShare, factors.misShare);
         }
     }
     spare_ = std::move(factors);
@@ -93,7 +97,8 @@ void Learning::learnFromProbe(double variancePerSample, std::uint64_t rays, std:
     m.variancePerSample = variancePerSample;
     propagateToCoarserCells(sums_, occupied_);
     factors = learnFactors(sums_, m, occupied_);
-    // Deeper vertices go unlearned through epoch 0, as without a probe: the probe's few pixels measure the
+    // Deeper vertices go unlearned through epoch 0 (the first hit's factors and MIS shares are the probe's),
+    // as without a probe: the probe's few pixels measure the
     // image's variance V too unevenly for the scale sqrt(C / V) that every deeper factor takes (seeds whose
     // probe missed the rare bright paths split every bounce up to 8 times).
     std::fill(factors.varianceRatio.begin(), factors.varianceRatio.end(), -1.0f);

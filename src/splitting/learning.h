@@ -86,7 +86,8 @@ struct Learning {
     /// over megabytes: one add at a time would wait on memory for each).
     void add(const std::vector<Record>& records);
     /// Ends the epoch: the next one's factors from this one's sums (after a probe, the first hit's: the
-    /// lesser of the probe's and epoch 0's at the end of epoch 0, then those for good), its cost per camera sample (from the
+    /// lesser of the probe's and epoch 0's at the end of epoch 0, then those for good; its MIS shares
+    /// epoch 0's, then those for good), its cost per camera sample (from the
     /// render's rays and samples now) and its variance per camera sample, from the image's over all
     /// samples now (`variancePerSample`) and at the epoch's start: an epoch after the first has as many
     /// samples as all before it, so its variance is about 2 V_now - V_start.

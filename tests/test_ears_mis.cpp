@@ -1,0 +1,178 @@
+// The first hit's MIS under --splitting ears (splitting/ears.h misShare): the share of a split first
+// hit's continuations that the power heuristic counts, from how often they find a light, against closed
+// forms; its cells (learned where the records are, filled in from coarser cells elsewhere); its schedule
+// after a probe; the records a render makes for it; and which way it goes on scenes whose lights the
+// BRDF's directions seldom find (a small light) and mostly find (a sky).
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using namespace symphong;
+
+namespace {
+
+/// n BrdfHit records in the cell of p, the first `hits` of them finding a light (value 2, cost 1).
+void addContinuations(ears::Learning& l, const Vec3& p, int n, int hits) {
+    const auto cell = static_cast<std::uint32_t>(l.grid.cell(p, ears::Grid::kLevels - 1));
+    for (int i = 0; i < n; ++i) l.add({cell, i < hits ? 2.0 : 0.0, i < hits ? 1u : 0u, ears::Section::BrdfHit});
+}
+
+ears::CellSums continuations(int n, int hits) {
+    ears::CellSums s;
+    for (int i = 0; i < n; ++i) s.add(i < hits ? 2.0 : 0.0, i < hits ? 1 : 0);
+    return s;
+}
+
+/// The learned MIS share that a vertex at p uses (-1: none).
+double shareAt(const ears::Factors& f, const ears::Grid& grid, const Vec3& p) {
+    return f.misShare.empty() ? -1.0 : f.misShare[grid.cell(p, ears::Grid::kLevels - 1)];
+}
+
+}  // namespace
+
+// t = (rate - 1/4) / (1/2 - 1/4) clamped to [0, 1], rate = hits / records; no estimate below kMinRecords.
+TEST(EarsMis, ShareIsTheHitRatesRampBetweenItsTwoRates) {
+    const int n = 400;
+    EXPECT_EQ(ears::misShare(continuations(n, 0)), 0.0);
+    EXPECT_EQ(ears::misShare(continuations(n, n / 4)), 0.0);         // at kUnfoldedHitRate
+    EXPECT_NEAR(ears::misShare(continuations(n, 150)), 0.5, 1e-12);  // rate 0.375: half way
+    EXPECT_NEAR(ears::misShare(continuations(n, 130)),
+                (130.0 / n - ears::kUnfoldedHitRate) / (ears::kFoldedHitRate - ears::kUnfoldedHitRate), 1e-12);
+    EXPECT_EQ(ears::misShare(continuations(n, n / 2)), 1.0);  // at kFoldedHitRate
+    EXPECT_EQ(ears::misShare(continuations(n, n)), 1.0);
+    const int few = static_cast<int>(ears::kMinRecords) - 1;
+    EXPECT_EQ(ears::misShare(continuations(few, few)), -1);
+    EXPECT_EQ(ears::misShare(continuations(few + 1, few + 1)), 1.0);
+}
+
+// Learned in every cell with records (each level's from the records below it), and a finest cell without
+// records of its own takes its nearest coarser cell's: here the coarsest, which holds both cells' records.
+TEST(EarsMis, LearnedWhereTheRecordsAreAndFilledInFromCoarserCells) {
+    const ears::Grid grid(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    const Vec3 a(0.05, 0.05, 0.05), b(0.2, 0.2, 0.2), empty(0.1, 0.2, 0.05), far(0.9, 0.9, 0.9);
+    ASSERT_EQ(grid.cell(a, 0), grid.cell(empty, 0));
+    ASSERT_EQ(grid.cell(b, 0), grid.cell(empty, 0));
+    ASSERT_NE(grid.cell(a, 1), grid.cell(empty, 1));
+    ASSERT_NE(grid.cell(b, 1), grid.cell(empty, 1));
+    ears::Learning l(grid);
+    addContinuations(l, a, 100, 10);   // rate 0.1: t = 0
+    addContinuations(l, b, 300, 270);  // rate 0.9: t = 1
+    ears::SumTable sums = l.sums();
+    ears::propagateToCoarserCells(sums);
+    const ears::Factors f = ears::learnFactors(sums, {5.0, 0.4, 1000});
+    ASSERT_FALSE(f.empty());
+    EXPECT_EQ(shareAt(f, grid, a), 0.0);
+    EXPECT_EQ(shareAt(f, grid, b), 1.0);
+    // The coarsest cell holds both: 280 hits of 400, rate 0.7: t = 1. With fewer hits at b, in between.
+    EXPECT_EQ(shareAt(f, grid, empty), 1.0);
+    EXPECT_EQ(f.misShare[grid.cell(empty, 0)], f.misShare[grid.cell(empty, ears::Grid::kLevels - 1)]);
+    ears::Learning fewer(grid);
+    addContinuations(fewer, a, 100, 10);
+    addContinuations(fewer, b, 100, 70);  // with a's, 80 hits of 200: rate 0.4, t = 0.6
+    addContinuations(fewer, far, 40, 0);
+    ears::SumTable fewerSums = fewer.sums();
+    ears::propagateToCoarserCells(fewerSums);
+    const ears::Factors g = ears::learnFactors(fewerSums, {5.0, 0.4, 1000});
+    EXPECT_NEAR(shareAt(g, grid, empty), 0.6, 1e-6);
+    EXPECT_EQ(shareAt(g, grid, far), 0.0);
+    // A cell of a coarsest cell that no record reached: no share (the plain count).
+    EXPECT_LT(shareAt(f, grid, far), 0);
+}
+
+// After a probe: epoch 0 uses the probe's shares; at its end each cell takes epoch 0's (the probe's where
+// epoch 0 has none), and from then on they hold whatever later epochs record.
+TEST(EarsMis, AfterTheProbeSharesAreEpochZerosThenHold) {
+    const ears::Grid grid(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    const Vec3 a(0.1, 0.1, 0.1), b(0.9, 0.8, 0.7);
+    ears::Learning l(grid);
+    addContinuations(l, a, 100, 10);  // t = 0
+    addContinuations(l, b, 100, 90);  // t = 1
+    l.learnFromProbe(0.4, 5000, 1000);
+    ASSERT_FALSE(l.factors.empty());
+    EXPECT_EQ(shareAt(l.factors, grid, a), 0.0);
+    EXPECT_EQ(shareAt(l.factors, grid, b), 1.0);
+    // Epoch 0 records a again (rate 0.375: t = 1/2) and nothing at b.
+    addContinuations(l, a, 400, 150);
+    l.advance(0.4, 5000, 1000);
+    ASSERT_FALSE(l.factors.empty());
+    EXPECT_NEAR(shareAt(l.factors, grid, a), 0.5, 1e-6);
+    EXPECT_EQ(shareAt(l.factors, grid, b), 1.0);
+    // Epoch 1 records something else: the shares hold.
+    addContinuations(l, a, 100, 100);
+    addContinuations(l, b, 100, 0);
+    l.add({static_cast<std::uint32_t>(grid.cell(a, ears::Grid::kLevels - 1)), 1.0, 3, ears::Section::Deeper});
+    l.advance(0.4, 10000, 2000);
+    EXPECT_NEAR(shareAt(l.factors, grid, a), 0.5, 1e-6);
+    EXPECT_EQ(shareAt(l.factors, grid, b), 1.0);
+}
+
+namespace {
+
+RenderSettings earsRender(int width, int height, std::uint32_t spp) {
+    RenderSettings rs;
+    rs.width = width, rs.height = height, rs.spp = spp, rs.seed = 5, rs.sampler = "sobol";
+    rs.trace.splitting = SplittingMode::Ears;
+    return rs;
+}
+
+/// The finest cells' learned MIS shares after 4 samples of a 48 x 36 render of 16 (held from the end of
+/// epoch 0).
+std::vector<float> learnedShares(const std::string& scenePath) {
+    const Scene scene = loadScene(scenePath);
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    RenderState state(48, 36, 16);
+    renderSamples(scene, accel, *est, earsRender(48, 36, 16), state, 4);
+    std::vector<float> t;
+    for (std::size_t c = ears::Grid::firstCell(ears::Grid::kLevels - 1); c < ears::Grid::cellCount(); ++c)
+        if (state.ears->factors.misShare[c] >= 0) t.push_back(state.ears->factors.misShare[c]);
+    return t;
+}
+
+double mean(const std::vector<float>& v) {
+    double s = 0;
+    for (float x : v) s += x;
+    return v.empty() ? -1.0 : s / static_cast<double>(v.size());
+}
+
+}  // namespace
+
+// Which way a render's shares go: the glossy floor and sphere under a small bright light (small-n100),
+// whose continuations find the light about one time in a thousand, count one call (t = 0 everywhere);
+// the glossy sphere under a smooth sky (sky-n10), whose continuations mostly escape to the sky, count
+// them all in most cells. Fixed seed; the means are far from the bounds of the test (measured: 0 and 0.87).
+TEST(EarsMis, SharesFollowHowOftenTheBrdfFindsTheLight) {
+    const std::vector<float> small = learnedShares(SYMPHONG_SOURCE_DIR "/scenes/regime/small-n100.json");
+    const std::vector<float> sky = learnedShares(SYMPHONG_SOURCE_DIR "/scenes/regime/sky-n10.json");
+    ASSERT_GT(small.size(), 100u);
+    ASSERT_GT(sky.size(), 100u);
+    EXPECT_EQ(mean(small), 0.0) << small.size() << " cells";
+    EXPECT_GT(mean(sky), 0.6) << sky.size() << " cells";
+}
+
+// In epoch 0 the BrdfHit section holds one record per first-hit continuation, each counted as a hit when
+// its value is positive; the render's mean stays phong's (MIS weights sum to one for any count: the mean
+// image of every study scene against phong, tests/test_ears.cpp, covers it).
+TEST(EarsMis, EveryFirstHitContinuationIsRecorded) {
+    const Scene scene = loadScene(SYMPHONG_SOURCE_DIR "/scenes/regime/sky-n10.json");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    RenderState state(16, 12, 16);
+    renderSamples(scene, accel, *est, earsRender(16, 12, 16), state, 1);
+    ASSERT_TRUE(state.ears);
+    ASSERT_EQ(state.ears->epoch, 0);
+    std::uint64_t records = 0, continued = 0, hits = 0;
+    for (std::size_t c = ears::Grid::firstCell(ears::Grid::kLevels - 1); c < ears::Grid::cellCount(); ++c) {
+        records += state.ears->sums()[ears::sectionStart(ears::Section::BrdfHit) + c].count;
+        hits += state.ears->sums()[ears::sectionStart(ears::Section::BrdfHit) + c].cost;
+        continued += state.ears->sums()[ears::sectionStart(ears::Section::FirstHit) + c].count;
+    }
+    EXPECT_GT(records, 0u);
+    EXPECT_EQ(records, continued);
+    EXPECT_GT(hits, 0u);
+    EXPECT_LT(hits, records);
+}
