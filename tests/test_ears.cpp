@@ -3,6 +3,7 @@
 // sums in any order, the epoch schedule, the split directions against the estimator's density
 // (chi-square), unbiasedness (the closed furnace, and the mean image against phong on every study
 // scene, 4 sigma), determinism across threads and passes, a checkpoint's round trip, and bad values.
+#include "ears_settings.h"
 #include "render/checkpoint.h"
 #include "sample_util.h"
 #include "sampling/warp.h"
@@ -23,18 +24,12 @@
 #include <random>
 
 using namespace symphong;
+using symphong::test::earsSettings;
 
 namespace {
 
 bool sameBits(const Image& a, const Image& b) {
     return a.pixels.size() == b.pixels.size() && std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color)) == 0;
-}
-
-RenderSettings earsSettings(int width, int height, std::uint32_t spp, std::uint64_t seed, const std::string& sampler = "sobol") {
-    RenderSettings rs;
-    rs.width = width, rs.height = height, rs.spp = spp, rs.seed = seed, rs.sampler = sampler;
-    rs.trace.splitting = SplittingMode::Ears;
-    return rs;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // forms; its cells (learned where the records are, filled in from coarser cells elsewhere); its schedule
 // after a probe; the records a render makes for it; and which way it goes on scenes whose lights the
 // BRDF's directions seldom find (a small light) and mostly find (a sky).
+#include "ears_settings.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -112,13 +113,6 @@ TEST(EarsMis, AfterTheProbeSharesAreEpochZerosThenHold) {
 
 namespace {
 
-RenderSettings earsRender(int width, int height, std::uint32_t spp) {
-    RenderSettings rs;
-    rs.width = width, rs.height = height, rs.spp = spp, rs.seed = 5, rs.sampler = "sobol";
-    rs.trace.splitting = SplittingMode::Ears;
-    return rs;
-}
-
 /// The finest cells' learned MIS shares after 4 samples of a 48 x 36 render of 16 (held from the end of
 /// epoch 0).
 std::vector<float> learnedShares(const std::string& scenePath) {
@@ -126,7 +120,7 @@ std::vector<float> learnedShares(const std::string& scenePath) {
     const Accel accel(scene);
     const auto est = makeEstimator("phong");
     RenderState state(48, 36, 16);
-    renderSamples(scene, accel, *est, earsRender(48, 36, 16), state, 4);
+    renderSamples(scene, accel, *est, test::earsSettings(48, 36, 16, 5), state, 4);
     std::vector<float> t;
     for (std::size_t c = ears::Grid::firstCell(ears::Grid::kLevels - 1); c < ears::Grid::cellCount(); ++c)
         if (state.ears->factors.misShare[c] >= 0) t.push_back(state.ears->factors.misShare[c]);
@@ -162,7 +156,7 @@ TEST(EarsMis, EveryFirstHitContinuationIsRecorded) {
     const Accel accel(scene);
     const auto est = makeEstimator("phong");
     RenderState state(16, 12, 16);
-    renderSamples(scene, accel, *est, earsRender(16, 12, 16), state, 1);
+    renderSamples(scene, accel, *est, test::earsSettings(16, 12, 16, 5), state, 1);
     ASSERT_TRUE(state.ears);
     ASSERT_EQ(state.ears->epoch, 0);
     std::uint64_t records = 0, continued = 0, hits = 0;
