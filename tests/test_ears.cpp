@@ -25,14 +25,7 @@
 
 using namespace symphong;
 using symphong::test::earsSettings;
-
-namespace {
-
-bool sameBits(const Image& a, const Image& b) {
-    return a.pixels.size() == b.pixels.size() && std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color)) == 0;
-}
-
-}  // namespace
+using symphong::test::sameBits;
 
 TEST(EarsFactor, SplitsByVarianceRoulettesBySecondMomentAndClamps) {
     // q_split = T sqrt(v/C_x) sqrt(C/V) = 2 x 1 x 1 > 1: split by it.

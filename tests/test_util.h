@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -155,6 +156,11 @@ struct CliRun {
     int code;
     std::string err, out;
 };
+
+/// Whether two images hold the same pixels bit for bit.
+inline bool sameBits(const Image& a, const Image& b) {
+    return a.pixels.size() == b.pixels.size() && std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color)) == 0;
+}
 
 inline CliRun runCliArgs(std::vector<std::string> args) {
     args.insert(args.begin(), "symphong");
