@@ -2,8 +2,8 @@
 // hit's continuations that the power heuristic counts, from how often they find a light, against closed
 // forms; its cells (learned where the records are, filled in from coarser cells elsewhere); its schedule
 // after a probe; the records a render makes for it; which way it goes on scenes whose lights the
-// BRDF's directions seldom find (a small light) and mostly find (a sky); and that the tracer's MIS weights
-// follow it (shares set by hand).
+// BRDF's directions seldom find (a small light) and mostly find (a sky); that the tracer's MIS weights
+// follow it (shares set by hand); and that checkpoints written before it existed still resume.
 #include "ears_settings.h"
 #include "render/checkpoint.h"
 #include "test_util.h"
@@ -228,8 +228,9 @@ TEST(EarsMis, TheLearnedShareSetsTheFirstHitsMisWeights) {
 // A checkpoint written before the first hit's MIS share existed (three values a cell, no "factor_values" in
 // its header; tests/data/checkpoints/README.md says how it was made) reads back with every cell's three
 // values where they were (the header's counts of cells; each first-hit factor -1 or in [1, kMaxFactor], the
-// range learnFactors gives, which a misaligned read would not keep), no MIS share anywhere (the plain count,
-// as it was rendered), and resumes, the same image from two reads, to a mean within 4 sigma of a plain render.
+// range learnFactors gives, which the file's ratios, all below 0.1, would leave if read out of place), no MIS
+// share anywhere (the plain count, as it was rendered), and resumes, the same image from two reads, to a mean
+// within 4 sigma of a plain render.
 TEST(EarsMis, CheckpointsWrittenBeforeTheShareResume) {
     const std::string path = SYMPHONG_SOURCE_DIR "/tests/data/checkpoints/ears-three-values.ckpt";
     RenderIdentity id;
