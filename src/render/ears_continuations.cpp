@@ -74,6 +74,19 @@ Color PathTracer::splitContinuations(const ShadingContext& sc, const Frame& fram
     return L;
 }
 
+// One direction of a continuation, as traceContinuation's loop traces it (the same value, bit for bit: a sum
+// that starts at 0).
+inline Color PathTracer::traceDirection(const DirectionSample& s, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed,
+                                        double mis, double divisor, int depth, std::uint64_t path, const Color& throughput,
+                                        PathContext& pc) const {
+    Color value(0.0);
+    const Vec3 wi = frame.toWorld(s.wi);
+    if (s.wi.z <= 0 || dot(wi, ng) <= 0) return value;  // below the surface: no light comes through it
+    const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
+    value += weight * radiance(origin, wi, depth + 1, path, s.misPdf * mis, throughput * weight / divisor, pc);
+    return value;
+}
+
 // One continuation of a vertex under --splitting ears: the estimator's directions in `dirs` (one for every
 // estimator but a set's), each traced with weight 1/divisor in its throughput and MIS density times `mis`,
 // and, with `record`, reported as one record of its luminance and rays (splitting/learning.h Record); at
@@ -119,11 +132,41 @@ Color PathTracer::rouletteContinuation(const ShadingContext& sc, const Frame& fr
     dirs.clear();
     samples.setDimension(SampleDimensions::vertex(depth, path) + SampleDimensions::kEstimator);
     estimator_.sample(sc, samples, dirs);
+    const Vec3 origin = p + ng * epsilon_;
+    if (dirs.size() == 1) {  // every estimator but a set's: traceContinuation's one direction, inline
+        const std::uint64_t raysBefore = pc.stats.rays;
+        const Color value = traceDirection(dirs[0], frame, ng, origin, shadowed, q, q, depth, path, throughput, pc);
+        if (records_)
+            pc.scratch.splitRecords.push_back(
+                {static_cast<std::uint32_t>(cell), luminance(value), pc.stats.rays - raysBefore, ears::Section::Deeper});
+        return value / q;
+    }
     std::uint64_t traced = 0;
-    const Color value = traceContinuation(dirs, frame, ng, p + ng * epsilon_, shadowed, q, q, depth, path, throughput, records_, cell,
+    const Color value = traceContinuation(dirs, frame, ng, origin, shadowed, q, q, depth, path, throughput, records_, cell,
                                           ears::Section::Deeper, traced, pc);
     if (traced > 1) pc.stats.extraPaths += traced - 1;
     return value / q;
+}
+
+// A first hit whose factor is 1 (all of them in most cells under a sun or a small light): splitContinuations'
+// n = 1 without its loop, its divisions by 1 and its variance sums: one continuation, block point 0 of its
+// sample, and the vertex's FirstHitVertex record (no within-vertex variance) when the first hit records.
+Color PathTracer::singleFirstHit(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell,
+                                 bool shadowed, std::uint64_t path, const Color& throughput, PathContext& pc) const {
+    DirectionList& dirs = pc.scratch.directions[0];
+    dirs.clear();
+    SampleStream block = pc.samples.blockContinuation(0);
+    block.setDimension(SampleDimensions::firstHitEstimator(settings_.firstBounceStream));
+    estimator_.sample(sc, block, dirs);
+    const Vec3 origin = p + ng * epsilon_;
+    if (dirs.size() == 1 && !firstHitRecords_)
+        return traceDirection(dirs[0], frame, ng, origin, shadowed, 1.0, 1.0, 0, path, throughput, pc);
+    std::uint64_t traced = 0;
+    const Color value = traceContinuation(dirs, frame, ng, origin, shadowed, 1.0, 1.0, 0, path, throughput, firstHitRecords_, cell,
+                                          ears::Section::FirstHit, traced, pc);
+    if (firstHitRecords_) pc.scratch.splitRecords.push_back({static_cast<std::uint32_t>(cell), 0.0, 0u, ears::Section::FirstHitVertex});
+    if (traced > 1) pc.stats.extraPaths += traced - 1;
+    return value;
 }
 
 // --splitting ears-orbit: a first hit's n continuations (n = 2, 4 or 8: firstHitBlock's powers of two) as one

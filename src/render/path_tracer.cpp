@@ -235,6 +235,7 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
         const double mis = misScale(cell, q, depth);
         if (lightSampling_) L += direct.value(mis);
         if (depth > 0 && q <= 1) return L + rouletteContinuation(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
+        if (depth == 0 && q == 1) return L + singleFirstHit(sc, frame, ng, p, cell, shadowed, path, throughput, pc);
         return L + splitContinuations(sc, frame, ng, p, cell, shadowed, q, mis, depth, path, throughput, pc);
     }
     if (lightSampling_) L += direct.value(depth == 0 ? settings_.firstHitSplit : 1);

@@ -209,12 +209,19 @@ private:
     /// --splitting ears: a vertex after the first hit with q <= 1: splitContinuations for n <= 1, without its loop.
     Color rouletteContinuation(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
                                double q, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
+    /// --splitting ears: a first hit whose factor is 1: splitContinuations for n = 1, without its loop.
+    Color singleFirstHit(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, std::size_t cell, bool shadowed,
+                         std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// --splitting ears: one continuation's directions traced from `origin` (weights 1/divisor, MIS densities
     /// times `mis`) and, with `record`, reported in scratch.splitRecords (a first hit's also as a BrdfHit
     /// record); `traced` counts the rays it started.
     Color traceContinuation(const DirectionList& dirs, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed, double mis,
                             double divisor, int depth, std::uint64_t own, const Color& throughput, bool record, std::size_t cell,
                             ears::Section section, std::uint64_t& traced, PathContext& pc) const;
+    /// --splitting ears: traceContinuation of one direction, without its records: its radiance times its
+    /// weight (0 below the surface), MIS density times `mis`, throughput divided by `divisor`.
+    Color traceDirection(const DirectionSample& s, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed, double mis,
+                         double divisor, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
     /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
     void firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const;
     /// Next-event estimation: one emitter chosen in proportion to its power, one direction towards it
