@@ -225,17 +225,12 @@ void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
         l.probed = epochAndFactors[2] != 0;
         l.factors = ears::Factors{};
         l.factors.scale = box[6];
-        if (epochAndFactors[1]) {
-            l.factors.varianceRatio.resize(static_cast<std::size_t>(cells));
-            l.factors.momentRatio.resize(static_cast<std::size_t>(cells));
-            l.factors.firstHit.resize(static_cast<std::size_t>(cells));
-            l.factors.misShare.resize(static_cast<std::size_t>(cells));
-        }
+        if (epochAndFactors[1])
+            for (std::vector<float>* table : l.factors.tables()) table->resize(static_cast<std::size_t>(cells));
         l.clearSums();
     }
     if (epochAndFactors[1])
-        for (std::vector<float>* table : {&l.factors.varianceRatio, &l.factors.momentRatio, &l.factors.firstHit, &l.factors.misShare})
-            MPI_Bcast(table->data(), cells, MPI_FLOAT, 0, MPI_COMM_WORLD);
+        for (std::vector<float>* table : l.factors.tables()) MPI_Bcast(table->data(), cells, MPI_FLOAT, 0, MPI_COMM_WORLD);
 }
 
 /// One slot of a rank's sums as gatherLearning sends it: its index and its sums.

@@ -84,8 +84,8 @@ std::size_t firstUnwrittenSum(const RenderState& state) {
 /// cells that have sums, each cell's number then its values. Empty when the render does not learn.
 struct EarsSections {
     std::vector<std::uint32_t> factorCells;
-    std::vector<float> factorRatios;  ///< four a cell: sqrt(v / C_x), sqrt(M / C_x), the first hit's q and MIS share
-    std::size_t valuesPerCell = 4;    ///< three in checkpoints written before the MIS share (it reads as -1)
+    std::vector<float> factorRatios;                     ///< four a cell: sqrt(v / C_x), sqrt(M / C_x), the first hit's q and MIS share
+    std::size_t valuesPerCell = ears::Factors::kTables;  ///< three in checkpoints written before the MIS share (it reads as -1)
     std::vector<std::uint32_t> sumCells;
     std::vector<ears::CellSums> sums;
 };
@@ -95,10 +95,11 @@ EarsSections packEars(const std::optional<ears::Learning>& learning) {
     EarsSections e;
     if (!learning) return e;
     const ears::Factors& f = learning->factors;
+    const auto tables = f.tables();
     for (std::size_t c = 0; c < f.momentRatio.size(); ++c)
-        if (f.momentRatio[c] >= 0 || f.firstHit[c] >= 0 || f.misShare[c] >= 0) {
+        if (std::any_of(tables.begin(), tables.end(), [c](const std::vector<float>* t) { return (*t)[c] >= 0; })) {
             e.factorCells.push_back(static_cast<std::uint32_t>(c));
-            e.factorRatios.insert(e.factorRatios.end(), {f.varianceRatio[c], f.momentRatio[c], f.firstHit[c], f.misShare[c]});
+            for (const std::vector<float>* t : tables) e.factorRatios.push_back((*t)[c]);
         }
     const ears::SumTable& sums = learning->sums();
     for (std::size_t c = 0; c < sums.size(); ++c)
@@ -170,14 +171,11 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
     if (j.at("has_factors").get<bool>()) {
         l.factors.scale = j.at("scale").get<double>();
         if (!std::isfinite(l.factors.scale) || l.factors.scale < 0) throw std::invalid_argument("ears: its scale is not a finite number >= 0");
-        l.factors.varianceRatio.assign(ears::Grid::cellCount(), -1.0f);
-        l.factors.momentRatio.assign(ears::Grid::cellCount(), -1.0f);
-        l.factors.firstHit.assign(ears::Grid::cellCount(), -1.0f);
-        l.factors.misShare.assign(ears::Grid::cellCount(), -1.0f);
+        l.factors.reset(ears::Grid::cellCount());
     }
     // "factor_values" is absent from checkpoints written before the first hit's MIS share: three a cell.
     e.valuesPerCell = j.contains("factor_values") ? count("factor_values") : 3;
-    if (e.valuesPerCell != 3 && e.valuesPerCell != 4)
+    if (e.valuesPerCell != 3 && e.valuesPerCell != ears::Factors::kTables)
         throw std::invalid_argument(fmt::format("ears factor_values: {} is not 3 or 4", e.valuesPerCell));
     e.factorCells.resize(factorCells);
     e.factorRatios.resize(e.valuesPerCell * factorCells);
@@ -194,10 +192,8 @@ bool unpackEars(const EarsSections& e, ears::Learning& l) {
     for (std::size_t i = 0; i < e.factorCells.size(); ++i) {
         if (e.factorCells[i] >= cells) return false;
         const float* v = &e.factorRatios[e.valuesPerCell * i];
-        l.factors.varianceRatio[e.factorCells[i]] = v[0];
-        l.factors.momentRatio[e.factorCells[i]] = v[1];
-        l.factors.firstHit[e.factorCells[i]] = v[2];
-        if (e.valuesPerCell == 4) l.factors.misShare[e.factorCells[i]] = v[3];
+        const auto tables = l.factors.tables();  // a three-value checkpoint leaves the last (misShare) at -1
+        for (std::size_t k = 0; k < e.valuesPerCell; ++k) (*tables[k])[e.factorCells[i]] = v[k];
     }
     for (std::size_t i = 0; i < e.sumCells.size(); ++i) {
         if (e.sumCells[i] >= l.sums().size()) return false;

@@ -257,10 +257,7 @@ Factors learnFactors(const SumTable& sums, const EpochMeasure& epoch, const Cell
     Factors f = std::move(storage);
     const std::size_t cells = Grid::cellCount(), vertexSlot = sectionStart(Section::FirstHitVertex);
     const CellSums* firstHit = sums.data() + sectionStart(Section::FirstHit);
-    f.varianceRatio.assign(cells, -1.0f);
-    f.momentRatio.assign(cells, -1.0f);
-    f.firstHit.assign(cells, -1.0f);
-    f.misShare.assign(cells, -1.0f);
+    f.reset(cells);
     const std::vector<float> variance = firstHitVariances(sums, occupied);
     deeperRatios(sums, occupied, f);
     const std::vector<FirstHitCell> model = firstHitModel(sums, occupied, variance, N);

@@ -264,6 +264,15 @@ struct Factors {
     double scale = 0;
 
     bool empty() const { return momentRatio.empty(); }
+    /// The tables, in the order a checkpoint stores a cell's values: for code that treats them alike (its
+    /// size, a checkpoint, a broadcast to ranks), so that a table added here reaches all of it.
+    static constexpr std::size_t kTables = 4;
+    std::array<std::vector<float>*, kTables> tables() { return {&varianceRatio, &momentRatio, &firstHit, &misShare}; }
+    std::array<const std::vector<float>*, kTables> tables() const { return {&varianceRatio, &momentRatio, &firstHit, &misShare}; }
+    /// Every table `cells` entries of -1: no estimate in any cell.
+    void reset(std::size_t cells) {
+        for (std::vector<float>* table : tables()) table->assign(cells, -1.0f);
+    }
     /// The cell whose entry of `table` (momentRatio or firstHit) a vertex at p uses: its finest cell with
     /// an estimate; -1 when none has one.
     static long cellAt(const std::vector<float>& table, std::size_t finest);
