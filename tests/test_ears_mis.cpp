@@ -5,6 +5,7 @@
 // BRDF's directions seldom find (a small light) and mostly find (a sky); that the tracer's MIS weights
 // follow it (shares set by hand); and that checkpoints written before it existed still resume.
 #include "ears_settings.h"
+#include "io/input_error.h"
 #include "render/checkpoint.h"
 #include "test_util.h"
 
@@ -12,6 +13,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -271,4 +274,28 @@ TEST(EarsMis, CheckpointsWrittenBeforeTheShareResume) {
     renderSamples(scene, accel, *est, plain, reference, 256);
     const MeanError resumed = state.regionError({0, 0, 24, 18}), ref = reference.regionError({0, 0, 24, 18});
     EXPECT_LT(std::abs(resumed.mean - ref.mean), 4 * std::sqrt(resumed.stdError * resumed.stdError + ref.stdError * ref.stdError));
+}
+
+// A checkpoint whose header gives a count of factor values a cell that no writer used (three before the MIS
+// share, Factors::kTables since) is refused as input, naming the file and the value, before its checksum is
+// read: the same file with the count 5 written into its header.
+TEST(EarsMis, CheckpointWithAnUnknownCountOfFactorValuesIsRefused) {
+    std::ifstream in(SYMPHONG_SOURCE_DIR "/tests/data/checkpoints/ears-three-values.ckpt", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string from = "\"ears\":{\"epoch\":2,";
+    const std::size_t at = bytes.find(from);
+    ASSERT_NE(at, std::string::npos);
+    bytes.insert(at + from.size(), "\"factor_values\":5,");
+    const test::TempDir dir;
+    const std::string path = dir.write("five.ckpt", bytes);
+    RenderIdentity id;
+    RenderState state;
+    try {
+        readCheckpoint(path, id, state);
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(path + ": not a usable checkpoint"), std::string::npos) << what;
+        EXPECT_NE(what.find("ears factor_values: 5 is not 3 or 4"), std::string::npos) << what;
+    }
 }

@@ -176,7 +176,7 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
     // "factor_values" is absent from checkpoints written before the first hit's MIS share: three a cell.
     e.valuesPerCell = j.contains("factor_values") ? count("factor_values") : 3;
     if (e.valuesPerCell != 3 && e.valuesPerCell != ears::Factors::kTables)
-        throw std::invalid_argument(fmt::format("ears factor_values: {} is not 3 or 4", e.valuesPerCell));
+        throw std::invalid_argument(fmt::format("ears factor_values: {} is not 3 or {}", e.valuesPerCell, ears::Factors::kTables));
     e.factorCells.resize(factorCells);
     e.factorRatios.resize(e.valuesPerCell * factorCells);
     e.sumCells.resize(sumCells);
@@ -189,10 +189,10 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
 bool unpackEars(const EarsSections& e, ears::Learning& l) {
     const std::size_t cells = ears::Grid::cellCount();
     if (!e.factorCells.empty() && l.factors.empty()) return false;
+    const auto tables = l.factors.tables();  // a three-value checkpoint leaves the last (misShare) at -1
     for (std::size_t i = 0; i < e.factorCells.size(); ++i) {
         if (e.factorCells[i] >= cells) return false;
         const float* v = &e.factorRatios[e.valuesPerCell * i];
-        const auto tables = l.factors.tables();  // a three-value checkpoint leaves the last (misShare) at -1
         for (std::size_t k = 0; k < e.valuesPerCell; ++k) (*tables[k])[e.factorCells[i]] = v[k];
     }
     for (std::size_t i = 0; i < e.sumCells.size(); ++i) {

@@ -80,9 +80,9 @@ inline Color PathTracer::traceDirection(const DirectionSample& s, const Frame& f
                                         double mis, double divisor, int depth, std::uint64_t path, const Color& throughput,
                                         PathContext& pc) const {
     Color value(0.0);
-    const Vec3 wi = frame.toWorld(s.wi);
-    if (s.wi.z <= 0 || dot(wi, ng) <= 0) return value;  // below the surface: no light comes through it
-    const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
+    Vec3 wi;
+    Color weight;
+    if (!leavesSurface(s, frame, ng, shadowed, wi, weight)) return value;
     value += weight * radiance(origin, wi, depth + 1, path, s.misPdf * mis, throughput * weight / divisor, pc);
     return value;
 }
@@ -100,9 +100,9 @@ inline Color PathTracer::traceContinuation(const DirectionList& dirs, const Fram
     Color value(0.0), found(0.0);
     for (std::size_t k = 0; k < dirs.size(); ++k) {
         const DirectionSample& s = dirs[k];
-        const Vec3 wi = frame.toWorld(s.wi);
-        if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
-        const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
+        Vec3 wi;
+        Color weight;
+        if (!leavesSurface(s, frame, ng, shadowed, wi, weight)) continue;
         const std::uint64_t nextPath = dirs.size() > 1 ? k + 1 : own;  // a set's directions: paths of their own
         if (brdfRecord) pc.scratch.bounceEmission = Color(0.0);
         value += weight * radiance(origin, wi, depth + 1, nextPath, s.misPdf * mis, throughput * weight / divisor, pc);

@@ -276,6 +276,8 @@ Color PathTracer::continuePath(const ShadingContext& sc, const Frame& frame, con
     }
     for (std::size_t k = 0; k < dirs.size(); ++k) {
         const DirectionSample& s = dirs[k];
+        // leavesSurface's test, written out: through the helper (always inline) this loop cost 0.3% more
+        // instructions of the default render (callgrind, cornell 128x128, 16 spp: 1,849.2 M against 1,843.6 M).
         const Vec3 wi = frame.toWorld(s.wi);
         if (s.wi.z <= 0 || dot(wi, ng) <= 0) continue;  // below the surface: no light comes through it
         const std::uint64_t nextPath = branching ? k + 1 : path;

@@ -10,6 +10,7 @@
 #include "lights/emitters.h"
 #include "math/frame.h"
 #include "scene/scene.h"
+#include "scene/shading_normal.h"
 #include "scene/surface.h"
 #include "splitting/learning.h"
 #include "util/cache_line.h"
@@ -180,6 +181,17 @@ private:
     Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
                        const Vec3& wo, bool& bent) const;
     double emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const;
+    /// A sampled direction `s` at a vertex (shading frame `frame`, geometric normal `ng`) as it leaves the
+    /// surface: its world direction `wi` and its weight (times bumpShadowing where `shadowed`); false, and
+    /// nothing traced, where it points below the surface by either normal: no light comes through there.
+    /// The test of every continuation (traceContinuation, traceDirection; continuePath writes it out).
+    [[gnu::always_inline]] static bool leavesSurface(const DirectionSample& s, const Frame& frame, const Vec3& ng, bool shadowed, Vec3& wi,
+                                                     Color& weight) {
+        wi = frame.toWorld(s.wi);
+        if (s.wi.z <= 0 || dot(wi, ng) <= 0) return false;
+        weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
+        return true;
+    }
     /// The continuations of a vertex without --splitting ears: the estimator's directions (k calls at the
     /// first hit with --split k), each past Russian roulette by throughput.
     Color continuePath(const ShadingContext& sc, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed, int depth,
