@@ -336,6 +336,15 @@ put("fuzz_checkpoint", "1x1-empty-settings.ckpt", b"\x01" + checkpoint(1, 1, 1, 
 # A header that claims a size the file does not have: 64x64 with the sections of 4x3.
 put("fuzz_checkpoint", "header-claims-64x64.ckpt", b"\x00" + checkpoint(4, 3, 8, 4).replace(b'"width":4,"height":3', b'"width":64,"height":64'))
 
+# An --splitting ears checkpoint (the ears header object, its factor and sum sections): the committed one of
+# tests/data/checkpoints (three values a cell, written before the first hit's MIS share), as written, and
+# with its header claiming four values a cell, the count of the writer now (the sections then too short).
+with open(os.path.join(HERE, "..", "tests", "data", "checkpoints", "ears-three-values.ckpt"), "rb") as f:
+    EARS_CKPT = f.read()
+put("fuzz_checkpoint", "ears-three-values-as-written.ckpt", b"\x00" + EARS_CKPT)
+put("fuzz_checkpoint", "ears-header-claims-four-values.ckpt",
+    b"\x00" + EARS_CKPT.replace(b'"ears":{"epoch":2,', b'"ears":{"epoch":2,"factor_values":4,', 1))
+
 # ---- fuzz_settings: the value of a JSON scene's "render" key ---------------------------------------
 put("fuzz_settings", "empty.json", "{}")
 put("fuzz_settings", "basic.json", '{"spp": 16, "width": 64, "height": 48, "estimator": "cosine", "sampler": "independent", '
