@@ -27,7 +27,9 @@ void Learning::clearSums() {
 
 std::size_t Learning::bytes() const {
     const auto factorBytes = [](const Factors& f) {
-        return (f.varianceRatio.capacity() + f.momentRatio.capacity() + f.firstHit.capacity() + f.misShare.capacity()) * sizeof(float);
+        std::size_t floats = 0;
+        for (const std::vector<float>* table : f.tables()) floats += table->capacity();
+        return floats * sizeof(float);
     };
     return sums_.capacity() * sizeof(CellSums) + occupied_.capacity() / 8 + factorBytes(factors) + factorBytes(spare_);
 }
