@@ -28,6 +28,7 @@
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace symphong::fuzz {
 
@@ -226,11 +227,38 @@ private:
 
 constexpr std::string_view kCheckpointMagic = "symphong checkpoint 1\n";
 
+/// The byte counts of the sections of a `--splitting ears` checkpoint after the pixel sections (render/
+/// checkpoint.cpp forEachSection: factor cells 4 B each, their values 4 B x factor_values each, sum cells
+/// 4 B each, their sums 48 B each), from its header's "ears" object; false when it has none the writer
+/// could have written (counts that are not integers from 0 to 2^20; factor_values absent: 3, as in files
+/// written before the first hit's MIS share).
+inline bool earsSectionSizes(const nlohmann::json& ears, std::vector<std::size_t>& sizes) {
+    if (!ears.is_object()) return false;
+    const auto count = [&](const char* key, std::uint64_t absent, std::uint64_t& out) {
+        if (!ears.contains(key)) {
+            out = absent;
+            return absent != ~std::uint64_t{0};
+        }
+        const nlohmann::json& v = ears[key];
+        if (!v.is_number_unsigned() || v.get<std::uint64_t>() > (1u << 20)) return false;
+        out = v.get<std::uint64_t>();
+        return true;
+    };
+    std::uint64_t factorCells = 0, values = 0, sumCells = 0;
+    if (!count("factor_cells", ~std::uint64_t{0}, factorCells) || !count("factor_values", 3, values) ||
+        !count("sum_cells", ~std::uint64_t{0}, sumCells) || values > 16)
+        return false;
+    for (const std::uint64_t n : {factorCells * 4, factorCells * values * 4, sumCells * 4, sumCells * 48})
+        sizes.push_back(static_cast<std::size_t>(n));
+    return true;
+}
+
 /// The file with its last 8 bytes replaced by the checksum the writer would have put there, when the
 /// file has the magic line, a header line whose width and height are integers of a small image, and
-/// exactly the size that header calls for (tile counts, three sections of sums, checksum); otherwise
-/// the file as it is. Sections are hashed as the writer hashes them: magic, header line, then each
-/// section in one piece (files under 64 MiB).
+/// exactly the size that header calls for (tile counts, three sections of sums, and with an "ears" object
+/// in the header the four sections of the learned splitting, earsSectionSizes; checksum); otherwise the
+/// file as it is. Sections are hashed as the writer hashes them: magic, header line, then each section in
+/// one piece (files under 64 MiB).
 inline std::string withFixedChecksum(std::string file) {
     if (file.compare(0, kCheckpointMagic.size(), kCheckpointMagic) != 0) return file;
     const std::size_t eol = file.find('\n', kCheckpointMagic.size());
@@ -244,8 +272,9 @@ inline std::string withFixedChecksum(std::string file) {
     const std::int64_t w = jw.get<std::int64_t>(), h = jh.get<std::int64_t>();
     if (w < 1 || h < 1 || w > 4096 || h > 4096 || w * h > (1 << 16)) return file;
     const std::size_t pixels = static_cast<std::size_t>(w * h);
-    const std::size_t sections[4] = {static_cast<std::size_t>(tileCount(static_cast<int>(w), static_cast<int>(h))) * 4, pixels * 24,
-                                     pixels * 24, pixels * 8};
+    const auto tiles = static_cast<std::size_t>(tileCount(static_cast<int>(w), static_cast<int>(h)));
+    std::vector<std::size_t> sections = {tiles * 4, pixels * 24, pixels * 24, pixels * 8};
+    if (header.contains("ears") && !earsSectionSizes(header["ears"], sections)) return file;
     std::size_t end = start;
     for (std::size_t n : sections) end += n;
     if (file.size() != end + 8) return file;
@@ -445,6 +474,28 @@ inline std::string sceneProblem(const Scene& s) {
 /// non-finite samples, so a checkpoint it wrote has no other), then what a resumed render does with
 /// it: requireSameRender against another render (InputError, the expected answer, is caught here), the
 /// image and its variance, finite where the state is.
+/// What is wrong with learned splitting factors (splitting/ears.h Factors), or "": none at all, or every
+/// table one entry a grid cell, each entry -1 (no estimate) or a finite number >= 0, the first hit's
+/// factor -1 or in [1, kMaxFactor], its MIS share -1 or in [0, 1], and a finite scale >= 0.
+inline std::string earsFactorsProblem(const ears::Factors& f) {
+    if (f.empty()) return {};
+    if (!std::isfinite(f.scale) || f.scale < 0) return "a scale of " + std::to_string(f.scale);
+    const auto tables = f.tables();
+    for (std::size_t t = 0; t < tables.size(); ++t) {
+        const std::vector<float>& table = *tables[t];
+        if (table.size() != ears::Grid::cellCount())
+            return "factor table " + std::to_string(t) + " of " + std::to_string(table.size()) + " cells";
+        const bool firstHit = &table == &f.firstHit, share = &table == &f.misShare;
+        for (std::size_t c = 0; c < table.size(); ++c) {
+            const float v = table[c];
+            if (v == -1.0f) continue;
+            if (!std::isfinite(v) || v < 0 || (firstHit && (v < 1 || v > ears::kMaxFactor)) || (share && v > 1))
+                return "factor table " + std::to_string(t) + " holds " + std::to_string(v) + " in cell " + std::to_string(c);
+        }
+    }
+    return {};
+}
+
 inline std::string checkpointProblem(const CheckpointRead& c) {
     const RenderState& s = c.state;
     if (s.width < 1 || s.height < 1 || s.sppBound < 1) return "accepted a state of " + std::to_string(s.width) + " x " +
@@ -471,6 +522,14 @@ inline std::string checkpointProblem(const CheckpointRead& c) {
         for (int x = 0; x < s.width; ++x)
             if (!isFinite(image.at(x, y)) || !isFinite(variance.at(x, y)))
                 return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") of the resumed image or variance is not finite";
+    if (s.ears) {
+        // --splitting ears: the factors read, and those that the epoch's end learns from the sums read
+        // (what the resumed render does next), are what learnFactors promises.
+        if (const std::string p = earsFactorsProblem(s.ears->factors); !p.empty()) return "as read, " + p;
+        ears::Learning next = *s.ears;
+        next.advance(s.variancePerSample(), s.rays, s.samples);
+        if (const std::string p = earsFactorsProblem(next.factors); !p.empty()) return "learned from the sums read, " + p;
+    }
     return {};
 }
 

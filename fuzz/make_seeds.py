@@ -345,6 +345,51 @@ put("fuzz_checkpoint", "ears-three-values-as-written.ckpt", b"\x00" + EARS_CKPT)
 put("fuzz_checkpoint", "ears-header-claims-four-values.ckpt",
     b"\x00" + EARS_CKPT.replace(b'"ears":{"epoch":2,', b'"ears":{"epoch":2,"factor_values":4,', 1))
 
+# A small --splitting ears checkpoint made here (4x3 pixels, six factor cells of four values, six cells of sums):
+# its sections of learned splitting fit libFuzzer's -max_len, unlike the committed one above, and with flags bit
+# 0 the harness repairs the checksum over them too (fuzz_common.h earsSectionSizes), so that mutations reach
+# the factors' and sums' checks and the epoch end that a resumed render runs on them (checkpointProblem).
+# Cells: the Grid's levels start at 0, 64, 576 and 4672 (4^3, 8^3, 16^3, 32^3 cells); a section of sums is
+# 37440 cells. Sums are CellSums: count, rays, then the values and squares as 128-bit fixed point (2^-40).
+def ears_checkpoint():
+    cells_per_section, finest = 37440, 4672
+    factor_cells = [0, 64, 600, finest, finest + 1, finest + 1000]
+    values = [(0.5, 0.75, 2.0, 0.25), (0.25, 0.5, 1.0, 0.0), (-1.0, -1.0, 4.0, 1.0), (0.125, 0.25, 8.0, 0.5),
+              (1.5, 2.0, -1.0, -1.0), (0.0, 0.0, 1.0, 0.75)]
+    sum_cells = [finest, finest + 1, cells_per_section + finest, 2 * cells_per_section + finest,
+                 3 * cells_per_section + finest, 3 * cells_per_section + finest + 1]
+    sums = [(40, 120, 0.25, 0.1), (64, 64, 1.0, 3.0), (48, 96, 0.5, 0.4), (24, 12, 0.2, 0.0), (48, 20, 0.3, 0.2),
+            (32, 0, 0.0, 0.0)]
+    fixed = lambda x: int(x * (1 << 40))
+    ears = {"epoch": 2, "probed": True, "lo": [-1.0, -1.0, -1.0], "hi": [1.0, 1.0, 1.0], "scale": 3.0,
+            "has_factors": True, "rays_at_start": 1000, "samples_at_start": 24, "variance_at_start": 0.3,
+            "factor_cells": len(factor_cells), "factor_values": 4, "sum_cells": len(sum_cells)}
+    base = checkpoint(4, 3, 8, 4, extra={"ears": ears})
+    body = base[:-8]
+    body += struct.pack("<%dI" % len(factor_cells), *factor_cells)
+    body += b"".join(struct.pack("<4f", *v) for v in values)
+    body += struct.pack("<%dI" % len(sum_cells), *sum_cells)
+    body += b"".join(struct.pack("<6Q", n, rays, fixed(n * v), 0, fixed(n * sq), 0) for n, rays, v, sq in sums)
+    # The checksum over every section as the writer hashes them: magic, header line, then each section.
+    magic_end = len(b"symphong checkpoint 1\n")
+    header_end = body.index(b"\n", magic_end) + 1
+    pixels, tiles = 12, 1
+    sizes = [tiles * 4, pixels * 24, pixels * 24, pixels * 8, len(factor_cells) * 4, len(factor_cells) * 16,
+             len(sum_cells) * 4, len(sum_cells) * 48]
+    hsh = CkHash()
+    hsh.add(body[:magic_end])
+    hsh.add(body[magic_end:header_end])
+    at = header_end
+    for n in sizes:
+        hsh.add(body[at:at + n])
+        at += n
+    assert at == len(body)
+    return body + struct.pack("<Q", hsh.value())
+
+
+put("fuzz_checkpoint", "ears-4x3-small-fixed.ckpt", b"\x01" + ears_checkpoint())
+put("fuzz_checkpoint", "ears-4x3-small-as-written.ckpt", b"\x00" + ears_checkpoint())
+
 # ---- fuzz_settings: the value of a JSON scene's "render" key ---------------------------------------
 put("fuzz_settings", "empty.json", "{}")
 put("fuzz_settings", "basic.json", '{"spp": 16, "width": 64, "height": 48, "estimator": "cosine", "sampler": "independent", '

@@ -9,16 +9,22 @@
 // stb_image's implementations in (fuzz/tinyobj_instrumented.cpp, fuzz/stb_image_instrumented.cpp), so
 // that a sanitizer build (debug-asan) sees their faults too, not only symphong's.
 #include "../fuzz/fuzz_common.h"
+#include "accel/accel.h"
+#include "estimators/registry.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <ostream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -198,4 +204,104 @@ TEST(FuzzRegressions, C2CheckpointSumsThatNoRenderWritesAreRefused) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("holds a sum that no render writes"), std::string::npos) << e.what();
     }
+}
+
+namespace {
+
+/// A checkpoint as writeCheckpoint writes it: 16 x 12 pixels of the built-in Cornell box, stopped at 5 of
+/// 16 samples; with --splitting ears inside epoch 2, its factors learned from epoch 1 and its sums begun.
+std::string writtenCheckpoint(bool ears) {
+    using namespace symphong;
+    const Scene scene = loadScene("cornell");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    RenderSettings rs;
+    rs.width = 16, rs.height = 12, rs.spp = 16, rs.seed = 3, rs.threads = 1;
+    if (ears) rs.trace.splitting = SplittingMode::Ears;
+    RenderState state(rs.width, rs.height, rs.spp);
+    probeLearning(scene, accel, *est, rs, state);
+    renderSamples(scene, accel, *est, rs, state, 5);
+    const test::TempDir tmp;
+    const std::string path = tmp.file("written.ckpt");
+    writeCheckpoint(path, RenderIdentity{"cornell", "0123456789abcdef", nlohmann::json::object()}, state);
+    return readBytes(path);
+}
+
+/// A checkpoint's header line (after the magic line) and the offset just past it.
+nlohmann::json headerLine(const std::string& file, std::size_t& end) {
+    const std::size_t from = symphong::fuzz::kCheckpointMagic.size();
+    end = file.find('\n', from) + 1;
+    return nlohmann::json::parse(file.substr(from, end - from));
+}
+
+/// The checkpoint's offset of its first section after the pixel sections (the learned splitting's factor
+/// cells): the header line's end plus the tile counts and the three sums of every pixel.
+std::size_t earsSectionsStart(const std::string& file) {
+    std::size_t start = 0;
+    const nlohmann::json header = headerLine(file, start);
+    const int w = header.at("width"), h = header.at("height");
+    return start + static_cast<std::size_t>(symphong::tileCount(w, h)) * 4 + static_cast<std::size_t>(w * h) * (24 + 24 + 8);
+}
+
+}  // namespace
+
+// The harness's checksum repair (fuzz_common.h withFixedChecksum) against the writer's own checksum: a
+// checkpoint as writeCheckpoint wrote it, its checksum zeroed, comes back byte for byte. A plain render's,
+// a --splitting ears one's (four sections of learned splitting after the pixels, four values a factor cell)
+// and the committed one of an older build (three values a cell, no factor_values key). Without the ears
+// sections the fuzzer's mutations of them stopped at the checksum.
+TEST(FuzzHarness, ChecksumRepairGivesTheWritersChecksum) {
+    std::vector<std::pair<std::string, std::string>> files = {{"plain", writtenCheckpoint(false)}, {"ears", writtenCheckpoint(true)}};
+    files.emplace_back("ears, three values", readBytes(SYMPHONG_SOURCE_DIR "/tests/data/checkpoints/ears-three-values.ckpt"));
+    for (const auto& [name, file] : files) {
+        ASSERT_GT(file.size(), 8u) << name;
+        std::string zeroed = file;
+        std::memset(zeroed.data() + zeroed.size() - 8, 0, 8);
+        ASSERT_TRUE(zeroed != file) << name;
+        EXPECT_TRUE(symphong::fuzz::withFixedChecksum(zeroed) == file) << name << ": not the bytes the writer wrote";  // not a dump of them
+        EXPECT_EQ(file.find("\"ears\"") != std::string::npos, name != "plain") << name;
+    }
+    // The ears checkpoint holds what the test is about: factor cells and sums after the pixel sections.
+    const std::string& ears = files[1].second;
+    EXPECT_GT(ears.size(), earsSectionsStart(ears) + 8 + 1000) << "an ears checkpoint with hardly any learned splitting";
+}
+
+// Found by reading, once the harness could repair the checksum of the learned splitting's sections: the
+// reader took any float as a factor, and a resumed render multiplied it into its decisions (an infinite MIS
+// share turns the first hit's light samples into NaN, discarded as bad). A factor that learnFactors cannot
+// give is refused, naming its value and cell; every value it can give is accepted (the written checkpoint
+// itself, and the same one with a factor at the ends of its range).
+TEST(FuzzRegressions, C3CheckpointFactorsThatNoRenderWritesAreRefused) {
+    using namespace symphong;
+    const std::string file = writtenCheckpoint(true);
+    std::size_t headerEnd = 0;
+    const std::size_t cells = headerLine(file, headerEnd).at("ears").at("factor_cells");
+    ASSERT_GT(cells, 0u);
+    // The first factor cell's values (Factors::tables' order: varianceRatio, momentRatio, firstHit, misShare).
+    const std::size_t values = earsSectionsStart(file) + cells * 4;
+    const auto withValue = [&](std::size_t k, float v) {
+        std::string f = file;
+        std::memcpy(f.data() + values + 4 * k, &v, 4);
+        return std::string(1, '\x01') + f;  // flags: the harness makes the checksum right
+    };
+    const fs::path dir = fuzz::scratchDir("regression");
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<std::tuple<std::size_t, float, std::string>> refused = {
+        {0, nan, "nan"}, {1, inf, "inf"}, {0, -0.5f, "-0.5"}, {2, 0.5f, "0.5"}, {2, 9.0f, "9"}, {3, 1.5f, "1.5"}, {3, inf, "inf"}};
+    for (const auto& [k, v, text] : refused) {
+        try {
+            fuzz::readCheckpointInput(dir, withValue(k, v));
+            ADD_FAILURE() << "value " << text << " of table " << k << " was accepted";
+        } catch (const InputError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("holds a factor that no render writes: " + text + " in cell"), std::string::npos) << what;
+        }
+    }
+    const std::vector<std::pair<std::size_t, float>> accepted = {{0, 0.0f}, {1, 1e30f}, {2, 1.0f}, {2, 8.0f},
+                                                                 {3, 0.0f}, {3, 1.0f},  {3, -1.0f}};
+    for (const auto& [k, v] : accepted) {
+        const auto read = fuzz::readCheckpointInput(dir, withValue(k, v));
+        EXPECT_EQ(fuzz::checkpointProblem(read), "") << "value " << v << " of table " << k;
+    }
+    EXPECT_EQ(fuzz::checkpointProblem(fuzz::readCheckpointInput(dir, std::string(1, '\0') + file)), "");
 }

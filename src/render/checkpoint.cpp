@@ -184,22 +184,36 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
     return l;
 }
 
-/// The sections read into the learning; false when a cell number is out of range or factors come without
-/// a table for them.
-bool unpackEars(const EarsSections& e, ears::Learning& l) {
+/// The sections read into the learning; what no render writes, or "": a cell number out of range, factors
+/// without a table for them, or a factor that learnFactors cannot give (a NaN or an infinity there would
+/// reach a resumed render's MIS weights: its samples discarded as bad, a black image).
+std::string unpackEars(const EarsSections& e, ears::Learning& l) {
     const std::size_t cells = ears::Grid::cellCount();
-    if (!e.factorCells.empty() && l.factors.empty()) return false;
+    if (!e.factorCells.empty() && l.factors.empty())
+        return "its learned splitting lists factor cells, but its header says it has no factors";
     const auto tables = l.factors.tables();  // a three-value checkpoint leaves the last (misShare) at -1
+    // What learnFactors puts in a table: -1, or a finite number >= 0; the first hit's factor in [1,
+    // kMaxFactor], its MIS share in [0, 1].
+    const auto written = [&](const std::vector<float>* table, float v) {
+        if (v == -1.0f) return true;
+        if (!(v >= 0) || !std::isfinite(v)) return false;
+        if (table == &l.factors.firstHit) return v >= 1 && v <= ears::kMaxFactor;
+        return table != &l.factors.misShare || v <= 1;
+    };
     for (std::size_t i = 0; i < e.factorCells.size(); ++i) {
-        if (e.factorCells[i] >= cells) return false;
+        if (e.factorCells[i] >= cells) return "its learned splitting names a cell out of range";
         const float* v = &e.factorRatios[e.valuesPerCell * i];
-        for (std::size_t k = 0; k < e.valuesPerCell; ++k) (*tables[k])[e.factorCells[i]] = v[k];
+        for (std::size_t k = 0; k < e.valuesPerCell; ++k) {
+            if (!written(tables[k], v[k]))
+                return fmt::format("its learned splitting holds a factor that no render writes: {} in cell {}", v[k], e.factorCells[i]);
+            (*tables[k])[e.factorCells[i]] = v[k];
+        }
     }
     for (std::size_t i = 0; i < e.sumCells.size(); ++i) {
-        if (e.sumCells[i] >= l.sums().size()) return false;
+        if (e.sumCells[i] >= l.sums().size()) return "its learned splitting names a cell out of range";
         l.add(e.sumCells[i], e.sums[i]);
     }
-    return true;
+    return {};
 }
 
 nlohmann::json headerOf(const RenderIdentity& id, const RenderState& s) {
@@ -337,7 +351,8 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     if (!in || checksum != h.value()) throw damaged("its checksum does not match its contents");
     for (std::uint32_t n : state.tileSamples)
         if (n > state.sppBound) throw damaged("a tile has more samples than the render's spp");
-    if (state.ears && !unpackEars(ears, *state.ears)) throw damaged("its learned splitting names a cell out of range");
+    if (state.ears)
+        if (const std::string why = unpackEars(ears, *state.ears); !why.empty()) throw damaged(why);
     // What no render writes, even under a matching checksum (fuzz finding C2).
     if (const std::size_t i = firstUnwrittenSum(state); i < state.sum.size())
         throw damaged(fmt::format("pixel ({}, {}) holds a sum that no render writes: not finite, or a negative sum of squares",
