@@ -4,8 +4,9 @@
 // mean(error_b) mean(cost_b) / (mean(error_a) mean(cost_a)) over the repeats both have; its 95% interval
 // rho exp(+-t sd(z) / sqrt(n)), z_r = error_b,r / mean(error_b) + cost_b,r / mean(cost_b) - error_a,r /
 // mean(error_a) - cost_a,r / mean(cost_a), with Student's t quantile from its closed forms for 1 and 2
-// degrees of freedom (the repeats of the tests that use this). Used by test_study.cpp (from results.csv) and
-// test_study_answer.cpp (from rows made by hand).
+// degrees of freedom (the repeats of the tests that use this); by MSE, joined in quadrature by 1.96 sd |1 /
+// mean(error_a) - 1 / mean(error_b)|, sd the reference's own error that every MSE shares (its noise_sd).
+// Used by test_study.cpp (from results.csv) and test_study_answer.cpp (from rows made by hand).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -59,8 +60,9 @@ inline double t975(int dof) {
     return NAN;
 }
 
-/// The efficiency ratio of a over b with its interval, over their common repeats.
-inline Quoted ratio(const std::vector<Sample>& a, const std::vector<Sample>& b) {
+/// The efficiency ratio of a over b with its interval, over their common repeats; `commonSd`: an error that
+/// both sides' errors share (the reference's, by MSE).
+inline Quoted ratio(const std::vector<Sample>& a, const std::vector<Sample>& b, double commonSd = 0) {
     std::map<int, Sample> byRepeat;
     for (const Sample& s : b) byRepeat[s.repeat] = s;
     std::vector<Sample> pa, pb;
@@ -79,7 +81,9 @@ inline Quoted ratio(const std::vector<Sample>& a, const std::vector<Sample>& b) 
     }
     double ss = 0;
     for (double x : z) ss += (x - zm) * (x - zm);
-    const double h = t975(static_cast<int>(n) - 1) * std::sqrt(ss / (n - 1)) / std::sqrt(n);
+    const double repeats = t975(static_cast<int>(n) - 1) * std::sqrt(ss / (n - 1)) / std::sqrt(n);
+    const double shared = 1.959963984540054 * commonSd * std::abs(1 / ea - 1 / eb);
+    const double h = std::sqrt(repeats * repeats + shared * shared);
     q.lo = q.point * std::exp(-h);
     q.hi = q.point * std::exp(h);
     return q;

@@ -7,6 +7,7 @@
 #include "compare/metrics.h"
 #include "study/comparisons.h"
 #include "study/study.h"
+#include "study/study_parts.h"
 #include "answer_factors.h"
 #include "test_util.h"
 #include "util/cpu_time.h"
@@ -91,6 +92,77 @@ TEST(StudyMetrics, NoisyImagesAroundTheReference) {
     const ImageError e = imageError(img, ref);
     const double n = w * h, se = sigma * sigma * std::sqrt(2.0 / n);
     EXPECT_NEAR(e.mse, sigma * sigma, 4 * se);
+}
+
+// The reference's own error (Reference::noiseSd: the spread of its realized mean squared error, sqrt(2 sum_p
+// sigma_p^4) / P for Gaussian pixel errors) against a second method. Pairs of independent references of the
+// built-in box (the study's reference sampler, independent; seeds 1-96): the mean squared difference d of a
+// pair, less its expectation (the two noises), spreads over the pairs as the same formula says for the
+// difference of two (sqrt(2 sum_p (s1_p^2 + s2_p^2)^2) / P). The spread of 48 pairs must be within 0.7-1.4 of the
+// prediction (its sampling error alone is about 10%; the pixel errors of a 256-sample mean are not quite Gaussian).
+TEST(StudyReference, ItsOwnErrorSpreadsAsItsNoiseSdSays) {
+    const Scene scene = loadScene("cornell");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    StudyConfig c;
+    RenderSettings rs;
+    rs.width = 16, rs.height = 12, rs.spp = 256, rs.sampler = "independent", rs.threads = 2;
+    const int pairs = 48;
+    const double P = rs.width * rs.height;
+    std::vector<double> excess;
+    double predicted = 0;
+    for (int k = 0; k < pairs; ++k) {
+        rs.seed = 2 * k + 1;
+        const RenderResult first = render(scene, accel, *est, rs);
+        rs.seed = 2 * k + 2;
+        const RenderResult second = render(scene, accel, *est, rs);
+        const Reference r1 = referenceFromRender(c, first, rs.spp), r2 = referenceFromRender(c, second, rs.spp);
+        double own = 0, fourth = 0, d = 0;
+        for (std::size_t p = 0; p < first.variance.pixels.size(); ++p) {
+            const double v1 = luminanceVariance(first.variance.pixels[p]), v2 = luminanceVariance(second.variance.pixels[p]);
+            own += v1 * v1;
+            fourth += (v1 + v2) * (v1 + v2);
+            const double diff = luminance(r1.image.pixels[p]) - luminance(r2.image.pixels[p]);
+            d += diff * diff / P;
+        }
+        ASSERT_GT(r1.noiseSd, 0);
+        EXPECT_NEAR(r1.noiseSd, std::sqrt(2 * own) / P, 1e-12 * r1.noiseSd);  // its closed form
+        excess.push_back(d - r1.noise - r2.noise);
+        predicted += std::sqrt(2 * fourth) / P / pairs;
+    }
+    double mean = 0, ss = 0;
+    for (double e : excess) mean += e / pairs;
+    for (double e : excess) ss += (e - mean) * (e - mean);
+    const double spread = std::sqrt(ss / (pairs - 1));
+    std::printf("realized error of a pair of references: spread %.4g, predicted %.4g (ratio %.3f), mean %.3g\n", spread, predicted,
+                spread / predicted, mean);
+    EXPECT_GT(spread / predicted, 0.7);
+    EXPECT_LT(spread / predicted, 1.4);
+    EXPECT_NEAR(mean, 0.0, 4 * spread / std::sqrt(pairs));  // the noise removed is the error's mean
+}
+
+// The report's words on the reference's noise: none while it is less than half of every MSE; where it is at
+// least half of the least one, how much of it that MSE still shares after its removal (the standard deviation,
+// and as a share of the MSE), which the intervals include; a warning above a tenth of the MSE.
+TEST(StudyReference, TheReportSaysHowMuchOfItsNoiseEachMseShares) {
+    std::vector<StudySummary> summary(2);
+    summary[0].variant = "phong", summary[0].spp = 64, summary[0].mse = 1e-4;
+    summary[1].variant = "phong+ears", summary[1].spp = 64, summary[1].mse = 2e-5;
+    Reference ref;
+    ref.noise = 9e-6, ref.noiseSd = 1e-7;
+    EXPECT_EQ(referenceNoiseWords(summary, ref), "");
+    ref.noise = 1e-5;  // half of phong+ears's MSE
+    std::string words = referenceNoiseWords(summary, ref);
+    EXPECT_EQ(words.rfind("The reference's own noise (1e-05) is at least half", 0), 0u) << words;
+    EXPECT_NE(words.find("(`phong+ears` at 64 spp: 2e-05)"), std::string::npos) << words;
+    EXPECT_NE(words.find("standard deviation 1e-07, 0.5% of that MSE"), std::string::npos) << words;
+    EXPECT_NE(words.find("the efficiency intervals by MSE include it"), std::string::npos) << words;
+    EXPECT_EQ(words.find("Warning"), std::string::npos) << words;
+    ref.noiseSd = 4e-6;  // a fifth of that MSE
+    words = referenceNoiseWords(summary, ref);
+    EXPECT_EQ(words.rfind("**Warning:** the reference's own noise (1e-05)", 0), 0u) << words;
+    EXPECT_NE(words.find("standard deviation 4e-06, 20.0% of that MSE"), std::string::npos) << words;
+    EXPECT_NE(words.find("Raise --reference-spp."), std::string::npos) << words;
 }
 
 TEST(StudyMetrics, MeanLuminanceAndItsError) {
@@ -812,6 +884,8 @@ TEST_F(TinyStudy, AnswerFactorsAreTheRatiosOfResultsCsv) {
     for (const auto& r : rows)
         if (!biased.count(r.at("variant"))) variants.insert(r.at("variant"));
     ASSERT_EQ(variants, (std::set<std::string>{"cosine", "phong"})) << "`paper` is biased";
+    const double referenceNoiseSd = nlohmann::json::parse(readTextFile((*dir_ / "results.json").string())).at("config").at("reference").at("noise_sd");
+    EXPECT_GT(referenceNoiseSd, 0);
     int lines = 0;
     for (const std::string& text : outcome_->answer) {
         const auto line = answer_factors::parseMostEfficient(text);
@@ -826,7 +900,10 @@ TEST_F(TinyStudy, AnswerFactorsAreTheRatiosOfResultsCsv) {
         ASSERT_EQ(line->factors.size(), 1u) << "two unbiased variants: only the next is quoted: " << text;
         EXPECT_NE(line->factors[0].against, line->best);
         EXPECT_TRUE(variants.count(line->factors[0].against)) << text;
-        const answer_factors::Quoted computed = answer_factors::ratio(samples(line->best, column), samples(line->factors[0].against, column));
+        // By MSE the interval also carries the reference's own error (results.json: config, reference, noise_sd).
+        const double shared = std::string(column) == "mse" ? referenceNoiseSd : 0.0;
+        const answer_factors::Quoted computed =
+            answer_factors::ratio(samples(line->best, column), samples(line->factors[0].against, column), shared);
         std::printf("%s: %s against %s, %.4f [%.4f, %.4f] from the CSV\n", column, line->best.c_str(), line->factors[0].against.c_str(),
                     computed.point, computed.lo, computed.hi);
         answer_factors::expectQuotes(line->factors[0], computed, text);

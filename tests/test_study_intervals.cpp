@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -88,6 +89,81 @@ TEST(EfficiencyRatio, IntervalCoversTheTrueRatio) {
         EXPECT_GE(rate, 0.93) << "n " << k.n << " sigma " << k.sigma;
         EXPECT_LT(rate, 0.99) << "far too wide";
         EXPECT_EQ(inside, trials) << "the point lies inside its interval";
+    }
+}
+
+// An error that every MSE shares (the reference's own: StudyRow::referenceSd) widens the interval by its closed
+// form: with repeats that agree exactly, the half-width on the log scale is 1.96 sd |1/mean(mseA) - 1/mean(mseB)|;
+// equal MSEs shift alike and their ratio not at all; without it, nothing changes.
+TEST(EfficiencyRatio, ACommonErrorWidensTheIntervalByItsClosedForm) {
+    const double z = 1.959963984540054, sd = 0.1;
+    auto r = efficiencyRatio({1, 1, 1}, {1, 1, 1}, {4, 4, 4}, {1, 1, 1}, sd);
+    ASSERT_TRUE(r);
+    EXPECT_DOUBLE_EQ(r->point, 4.0);
+    EXPECT_NEAR(std::log(r->hi / r->point), z * sd * (1.0 - 0.25), 1e-12);
+    EXPECT_NEAR(std::log(r->point / r->lo), z * sd * (1.0 - 0.25), 1e-12);
+    r = efficiencyRatio({2, 2}, {1, 1}, {2, 2}, {3, 3}, sd);  // the same MSE: the shared error cancels in the ratio
+    EXPECT_DOUBLE_EQ(r->lo, 3.0);  // (2 x 3) / (2 x 1)
+    EXPECT_DOUBLE_EQ(r->hi, 3.0);
+    r = efficiencyRatio({1}, {1}, {4}, {1}, sd);  // one repeat: the shared error is the whole interval
+    EXPECT_NEAR(std::log(r->hi / r->point), z * sd * 0.75, 1e-12);
+    // Spread repeats: the two half-widths add in quadrature.
+    const std::vector<double> ma = {1.1, 0.9, 1.3, 0.8}, ca = {2, 2.1, 1.9, 2}, mb = {0.7, 0.8, 0.75, 0.9}, cb = {3, 3.2, 2.9, 3.1};
+    const auto alone = efficiencyRatio(ma, ca, mb, cb), both = efficiencyRatio(ma, ca, mb, cb, sd);
+    const double hRepeats = std::log(alone->hi / alone->point), hCommon = z * sd * std::abs(1 / 1.025 - 1 / 0.7875);
+    EXPECT_NEAR(std::log(both->hi / both->point), std::hypot(hRepeats, hCommon), 1e-12);
+    EXPECT_DOUBLE_EQ(both->point, alone->point);
+}
+
+// Coverage with a noisy reference: synthetic studies of images, not of MSE values. Every trial draws one
+// reference (the truth plus Gaussian noise of a variance that differs from pixel to pixel, 2 to 6 times the
+// variance of variant a's renders), then n paired repeats of a (variance 1) and b (variance 10), measured as
+// the study measures them: mean squared difference to the reference less the reference's mean variance,
+// floored at 5% (study/measure.cpp). The reference's realized error is common to every render of the trial;
+// with its standard deviation (sqrt(2 sum sigma^4) / P, Reference::noiseSd) at least 93% of 1000 nominal-95%
+// intervals cover the true ratio; without it, far fewer (the repeats cannot see an error they all share).
+TEST(EfficiencyRatio, IntervalWithTheReferencesErrorCoversTheTrueRatio) {
+    const int P = 400, trials = 1000;
+    std::vector<double> truth(P), refVariance(P);
+    double noise = 0, fourth = 0;
+    for (int p = 0; p < P; ++p) {
+        truth[p] = 0.5 + 0.3 * std::sin(0.1 * p);
+        refVariance[p] = 4.0 * (0.5 + 0.5 * (p % 3));  // 2, 4, 6
+        noise += refVariance[p] / P;
+        fourth += refVariance[p] * refVariance[p];
+    }
+    const double noiseSd = std::sqrt(2 * fourth) / P, varA = 1.0, varB = 10.0, costA = 2.0, costB = 1.0;
+    const double trueRatio = (varB * costB) / (varA * costA);
+    for (const int n : {6, 12}) {
+        std::mt19937_64 rng(20261206 + n);
+        std::normal_distribution<double> g(0.0, 1.0);
+        int coveredWith = 0, coveredWithout = 0;
+        std::vector<double> ref(P);
+        for (int t = 0; t < trials; ++t) {
+            for (int p = 0; p < P; ++p) ref[p] = truth[p] + std::sqrt(refVariance[p]) * g(rng);
+            std::vector<double> ma(n), ca(n), mb(n), cb(n);
+            const auto measured = [&](double variance) {
+                double raw = 0;
+                for (int p = 0; p < P; ++p) {
+                    const double d = truth[p] + std::sqrt(variance) * g(rng) - ref[p];
+                    raw += d * d / P;
+                }
+                return std::max(raw - noise, 0.05 * raw);
+            };
+            for (int i = 0; i < n; ++i) {
+                ma[i] = measured(varA), mb[i] = measured(varB);
+                ca[i] = costA * (1 + 0.05 * g(rng)), cb[i] = costB * (1 + 0.05 * g(rng));
+            }
+            const auto with = efficiencyRatio(ma, ca, mb, cb, noiseSd), without = efficiencyRatio(ma, ca, mb, cb);
+            coveredWith += with->lo <= trueRatio && trueRatio <= with->hi;
+            coveredWithout += without->lo <= trueRatio && trueRatio <= without->hi;
+        }
+        const double rateWith = static_cast<double>(coveredWith) / trials, rateWithout = static_cast<double>(coveredWithout) / trials;
+        std::printf("n = %d: %.3f of %d intervals cover the true ratio with the reference's error, %.3f without\n", n, rateWith, trials,
+                    rateWithout);
+        EXPECT_GE(rateWith, 0.93) << n;
+        EXPECT_LE(rateWith, 0.995) << n << ": far too wide";
+        EXPECT_LT(rateWithout, 0.85) << n << ": the test's reference is not noisy enough to show anything";
     }
 }
 

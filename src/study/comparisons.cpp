@@ -61,6 +61,7 @@ std::optional<RatioInterval> compareVariants(const std::vector<StudyRow>& rows, 
             if (r.variant == against) b[r.repeat] = &r;
         }
     std::vector<double> errA, costA, errB, costB;
+    double referenceSd = 0;  // the same in every row of a study: the reference's error in each MSE (StudyRow::referenceSd)
     for (const auto& [rep, ra] : a)
         if (const auto it = b.find(rep); it != b.end()) {
             const StudyRow* rb = it->second;
@@ -68,8 +69,11 @@ std::optional<RatioInterval> compareVariants(const std::vector<StudyRow>& rows, 
             errB.push_back(measure == ErrorMeasure::Mse ? rb->mse : rb->relMse);
             costA.push_back(ra->cost);
             costB.push_back(rb->cost);
+            referenceSd = std::max({referenceSd, ra->referenceSd, rb->referenceSd});
         }
-    return efficiencyRatio(errA, costA, errB, costB);
+    // Only the MSE has the reference's noise removed (study/measure.cpp) and so its realized error to carry;
+    // the relative MSE's intervals stay the repeats' own.
+    return efficiencyRatio(errA, costA, errB, costB, measure == ErrorMeasure::Mse ? referenceSd : 0.0);
 }
 
 bool biasedAt(const std::vector<StudyRow>& rows, const std::string& variant, std::uint32_t spp) {

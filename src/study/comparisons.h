@@ -33,7 +33,8 @@ std::vector<VariantPair> studyComparisons(const std::vector<StudyVariant>& varia
 /// Which measure of the rows a ratio uses: 1/(MSE x cost) or 1/(relMSE x cost).
 enum class ErrorMeasure { Mse, RelMse };
 
-/// The efficiency ratio of `variant` over `against` at `spp` from the repeats both have (by repeat number).
+/// The efficiency ratio of `variant` over `against` at `spp` from the repeats both have (by repeat number); by
+/// MSE its interval includes the reference's own error that the rows carry (StudyRow::referenceSd).
 std::optional<RatioInterval> compareVariants(const std::vector<StudyRow>& rows, const std::string& variant, const std::string& against,
                                              std::uint32_t spp, ErrorMeasure measure = ErrorMeasure::Mse);
 

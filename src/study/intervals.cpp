@@ -81,7 +81,7 @@ double studentQuantile(double p, int dof) {
 }
 
 std::optional<RatioInterval> efficiencyRatio(const std::vector<double>& mseA, const std::vector<double>& costA,
-                                             const std::vector<double>& mseB, const std::vector<double>& costB) {
+                                             const std::vector<double>& mseB, const std::vector<double>& costB, double commonSd) {
     const std::size_t n = mseA.size();
     if (n == 0 || costA.size() != n || mseB.size() != n || costB.size() != n) return std::nullopt;
     const double ma = mean(mseA), ca = mean(costA), mb = mean(mseB), cb = mean(costB);
@@ -89,8 +89,10 @@ std::optional<RatioInterval> efficiencyRatio(const std::vector<double>& mseA, co
     RatioInterval r;
     r.n = static_cast<int>(n);
     r.point = (mb * cb) / (ma * ca);
+    const double common = 1.959963984540054 * commonSd * std::abs(1 / ma - 1 / mb);  // the reference's, 95%
     if (n < 2) {
-        r.lo = r.hi = r.point;
+        r.lo = r.point * std::exp(-common);
+        r.hi = r.point * std::exp(common);
         return r;
     }
     std::vector<double> z(n);
@@ -99,7 +101,7 @@ std::optional<RatioInterval> efficiencyRatio(const std::vector<double>& mseA, co
     double ss = 0;
     for (double x : z) ss += (x - zm) * (x - zm);
     const double se = std::sqrt(ss / static_cast<double>(n - 1) / static_cast<double>(n));
-    const double h = t975(static_cast<int>(n) - 1) * se;
+    const double h = std::hypot(t975(static_cast<int>(n) - 1) * se, common);
     r.lo = r.point * std::exp(-h);
     r.hi = r.point * std::exp(h);
     return r;

@@ -34,8 +34,15 @@ double studentQuantile(double p, int dof);
 /// The efficiency ratio of a over b, (mean(mseB) mean(costB)) / (mean(mseA) mean(costA)), over paired
 /// repeats (element r of each vector is repeat r; all four of one length n), with its 95% interval by the
 /// delta method (above). Nothing when n is 0 or a mean is not > 0; with n = 1 the interval is the point.
+///
+/// `commonSd`: the standard deviation of an error that every MSE of the study shares, which no number of
+/// repeats averages away: the reference's own (the realized noise of one reference image, less the mean
+/// noise that study/measure.cpp removes; Reference::noiseSd). An error d common to both moves log rho-hat by
+/// about d (1/mean(mseA) - 1/mean(mseB)); its 95% half-width, 1.96 commonSd |1/mean(mseA) - 1/mean(mseB)|,
+/// joins the repeats' t half-width in quadrature. It weighs most where one variant's MSE is small beside the
+/// reference's noise; with n = 1 it is the whole interval.
 std::optional<RatioInterval> efficiencyRatio(const std::vector<double>& mseA, const std::vector<double>& costA,
-                                             const std::vector<double>& mseB, const std::vector<double>& costB);
+                                             const std::vector<double>& mseB, const std::vector<double>& costB, double commonSd = 0);
 
 /// The mean of `values` and its 95% interval, mean +- t sd / sqrt(n) (lo at least 0 for values >= 0).
 RatioInterval meanInterval(const std::vector<double>& values);

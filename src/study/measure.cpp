@@ -37,6 +37,7 @@ StudyRow measureRow(const StudyConfig& c, const std::string& sceneName, const St
     // Remove the reference's own noise from the error; where that would leave less than 5% of the raw
     // error the reference is too noisy to say more (the report warns).
     row.mse = std::max(err.mse - ref.noise, 0.05 * err.mse);
+    row.referenceSd = ref.noiseSd;
     row.rmse = std::sqrt(row.mse);
     row.relMse = err.relMse;
     row.efficiency = 1.0 / (row.mse * std::max(row.cost, 1e-9));

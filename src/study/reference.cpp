@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace fs = std::filesystem;
 
 namespace symphong {
@@ -28,6 +30,7 @@ Reference existingReference(const StudyConfig& c, const fs::path& dir, const nlo
                 ref.image = readExr(exr.string());
                 ref.mean = {cached.at("mean_luminance").get<double>(), cached.at("mean_std_error").get<double>()};
                 ref.noise = cached.at("pixel_variance").get<double>();
+                ref.noiseSd = cached.at("noise_sd").get<double>();  // a cache written before it was kept: rendered again
                 ref.have = ref.image.width == c.width && ref.image.height == c.height;
                 ref.note = fmt::format("Reference: `{}` at {} spp, cached in reference.exr.", c.referenceEstimator, c.referenceSpp);
             }
@@ -44,7 +47,14 @@ Reference referenceFromRender(const StudyConfig& c, const RenderResult& r, std::
     for (Color& p : ref.image.pixels)
         for (int ch = 0; ch < 3; ++ch) p[ch] = static_cast<float>(p[ch]);
     ref.mean = meanLuminance(ref.image, &r.variance);
-    for (const Color& v : r.variance.pixels) ref.noise += luminanceVariance(v) / static_cast<double>(r.variance.pixels.size());
+    const auto pixels = static_cast<double>(r.variance.pixels.size());
+    double fourth = 0;  // sum of sigma_p^4
+    for (const Color& v : r.variance.pixels) {
+        const double s2 = luminanceVariance(v);
+        ref.noise += s2 / pixels;
+        fourth += s2 * s2;
+    }
+    ref.noiseSd = pixels > 0 ? std::sqrt(2 * fourth) / pixels : 0.0;
     ref.note = fmt::format(
         "Reference: `{}` at {} spp{} ({:.1f} s), cached in reference.exr.", c.referenceEstimator, spp,
         c.referenceError > 0 ? fmt::format(" (stopped at a relative error of its mean of {:.3g}%)", 100 * c.referenceError) : "",
@@ -59,6 +69,7 @@ void writeReferenceCache(const Reference& ref, const nlohmann::json& key, double
                                                                 {"mean_luminance", ref.mean.mean},
                                                                 {"mean_std_error", ref.mean.stdError},
                                                                 {"pixel_variance", ref.noise},
+                                                                {"noise_sd", ref.noiseSd},
                                                                 {"seconds", seconds}}
                                                          .dump(2) +
                                                      "\n");

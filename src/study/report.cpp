@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 
@@ -53,14 +54,7 @@ std::string reportHeader(const ReportInputs& in) {
         c.seed, in.reference.note, costWords(c.cost), studyCommandLine(c));
     if (processes > 1)
         md += fmt::format("Each render was shared among {} processes (MPI ranks); times are the whole job's.\n\n", processes);
-    for (const auto& s : summary)
-        if (s.mse > 0 && in.reference.noise > 0.5 * s.mse) {
-            md += fmt::format(
-                "**Warning:** the reference's own noise ({:.3g}) is at least half of some estimators' squared error "
-                "(`{}` at {} spp: {:.3g}); their RMSE and efficiency are uncertain. Raise --reference-spp.\n\n",
-                in.reference.noise, s.variant, s.spp, s.mse);
-            break;
-        }
+    md += referenceNoiseWords(summary, in.reference);
     return md;
 }
 
@@ -166,6 +160,22 @@ std::string reportEqualTime(const ReportInputs& in) {
 }
 
 }  // namespace
+
+std::string referenceNoiseWords(const std::vector<StudySummary>& summary, const Reference& reference) {
+    const StudySummary* least = nullptr;  // the smallest MSE, on which the reference's error weighs most
+    for (const auto& s : summary)
+        if (s.mse > 0 && (!least || s.mse < least->mse)) least = &s;
+    if (!least || !(reference.noise >= 0.5 * least->mse)) return {};
+    const std::string what = fmt::format(
+        "the reference's own noise ({:.3g}) is at least half of some estimators' squared error (`{}` at {} spp: {:.3g}). It is "
+        "removed from every MSE; what is left of it, one error shared by every render (standard deviation {:.3g}, {:.1f}% of that "
+        "MSE), no number of repeats averages away, and the efficiency intervals by MSE include it",
+        reference.noise, least->variant, least->spp, least->mse, reference.noiseSd, 100 * reference.noiseSd / least->mse);
+    // Above a tenth of the MSE (one standard deviation) it widens those intervals more than the repeats do at
+    // the study's usual +-10% target.
+    if (reference.noiseSd > 0.1 * least->mse) return "**Warning:** " + what + ". Raise --reference-spp.\n\n";
+    return std::string(1, static_cast<char>(std::toupper(static_cast<unsigned char>(what[0])))) + what.substr(1) + ".\n\n";
+}
 
 std::string reportMarkdown(const ReportInputs& in) {
     std::string md = reportHeader(in) + "## The answer\n\n";

@@ -26,6 +26,7 @@ StudyRow rowFromJson(const nlohmann::json& j) {
     r.groupPixelVariance = j.at("group_pixel_variance"), r.split = j.at("split");
     r.groupFirstBounceVariance = j.at("group_first_bounce_variance");
     r.cpuSeconds = j.at("cpu_seconds"), r.cost = j.at("cost"), r.paths = j.at("paths"), r.orbit = j.at("orbit");
+    r.referenceSd = j.value("reference_sd", 0.0);  // absent from results written before it was kept
     return r;
 }
 

@@ -116,6 +116,9 @@ struct StudyRow {
     double relativeBias = 0;  ///< this render's image mean against the reference's
     double mseRaw = 0;        ///< mean squared luminance error against the reference
     double mse = 0;           ///< mseRaw less the reference's own noise (its mean variance), at least 0
+    /// The standard deviation of the error that the reference's own noise leaves in `mse` (the realized
+    /// noise less its mean): one error, the same in every row of a study (Reference::noiseSd); 0 when unknown.
+    double referenceSd = 0;
     double rmse = 0, relMse = 0;
     double efficiency = 0;           ///< 1 / (mse * cost)
     double efficiencyRel = 0;        ///< 1 / (relMse * cost): weighs dark regions like bright ones

@@ -41,6 +41,11 @@ struct Reference {
     Image image;
     MeanWithError mean;
     double noise = 0;   ///< mean over pixels of its variance-of-mean (luminance); 0 when unknown
+    /// The standard deviation of its realized mean squared error about `noise`: sqrt(2 sum_p sigma_p^4) / P over
+    /// its P pixels' variances-of-mean sigma_p^2, for pixel errors that are Gaussian (the mean of thousands of
+    /// samples; heavier tails make it larger). Every render's MSE shares this error (study/measure.cpp); 0
+    /// when unknown.
+    double noiseSd = 0;
     std::string note;   ///< the report's sentence on where it came from
     bool have = false;  ///< false: it must be rendered
 };
@@ -118,6 +123,10 @@ struct ReportInputs {
     const std::vector<ReportTable>& tables;  ///< studyTables, the same
 };
 
+/// The report's words on the reference's own noise where it is at least half of the least MSE of `summary`:
+/// how much of it each MSE still shares after its removal (Reference::noiseSd), which the efficiency
+/// intervals include, as a warning to raise --reference-spp above a tenth of that MSE; "" otherwise.
+std::string referenceNoiseWords(const std::vector<StudySummary>& summary, const Reference& reference);
 /// report.md: the answer (study/answer.h) and one table per measure.
 std::string reportMarkdown(const ReportInputs& in);
 /// details.md: the conclusion in words, the plots, the variance budget, every measure at equal samples, equal time.

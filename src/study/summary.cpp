@@ -207,6 +207,7 @@ nlohmann::json rowJson(const StudyRow& r) {
             {"relative_bias", r.relativeBias},
             {"mse_raw", r.mseRaw},
             {"mse", r.mse},
+            {"reference_sd", r.referenceSd},
             {"rmse", r.rmse},
             {"relmse", r.relMse},
             {"efficiency", r.efficiency},

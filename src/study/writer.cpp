@@ -76,7 +76,8 @@ void StudyWriter::writeResults(StudyOutcome& outcome, const Reference& ref) cons
           {"estimator", c_.referenceEstimator},
           {"spp", c_.referenceSpp},
           {"mean_luminance", ref.mean.mean},
-          {"pixel_variance", ref.noise}}},
+          {"pixel_variance", ref.noise},
+          {"noise_sd", ref.noiseSd}}},
         {"heatmap", {{"spp", heatSpp_}, {"width", c_.width}, {"height", c_.height}, {"crop", {crop.x, crop.y, crop.w, crop.h}}}}};
     j["settings"] = studySettingsJson(c_);
     j["rows"] = nlohmann::json::array();
