@@ -143,5 +143,36 @@ TEST(StudyAnswer, EarsLineQuotesEachLearnedVariantAndTheOrbitAgainstIndependentD
         EXPECT_EQ(l.find("efficiency-aware"), std::string::npos) << l;
 }
 
+// A study stopped by its target when repeats could narrow nothing more, while the reference's own error leaves a
+// comparison wider than the target: the repeats line says which, and what to do. cosine has half phong's MSE in
+// every repeat (the repeats' interval has no width), and a reference error of sd 0.1 in every row widens it to
+// +-18% on the log scale (1.96 x 0.1 x |1/0.5 - 1/1|); without that error the line ends at the target.
+TEST(StudyAnswer, RepeatsLineNamesTheComparisonsThatTheReferenceLeavesWide) {
+    StudyConfig c;
+    c.estimators = {"cosine", "phong"};
+    c.spps = {16};
+    c.repeats = 3;
+    for (const double sd : {0.0, 0.1}) {
+        std::vector<StudyRow> rows;
+        for (const StudyVariant& v : studyVariants(c))
+            for (int i = 0; i < 3; ++i) {
+                StudyRow r;
+                r.estimator = v.estimator, r.variant = v.label, r.sampler = v.sampler, r.mode = "branch";
+                r.spp = 16, r.repeat = i, r.width = r.height = 8;
+                r.mse = r.relMse = v.label == "cosine" ? 0.5 : 1.0;
+                r.cost = r.cpuSeconds = r.seconds = 1.0;
+                r.rmse = std::sqrt(r.mse), r.efficiency = r.efficiencyRel = 1 / r.mse;
+                r.referenceSd = sd;
+                rows.push_back(r);
+            }
+        const std::vector<std::string> answer = studyAnswer(c, rows, summarizeStudy(rows), RepeatsNote{"target", 0.1});
+        const auto line = std::find_if(answer.begin(), answer.end(), [](const std::string& l) { return l.find("Repeats:") != std::string::npos; });
+        ASSERT_NE(line, answer.end()) << ::testing::PrintToString(answer);
+        EXPECT_NE(line->find("stopped when every comparison was decided within +-10%"), std::string::npos) << *line;
+        const std::string wide = " by its repeats; the reference's own error leaves `cosine` against `phong` wider (raise --reference-spp)";
+        EXPECT_EQ(line->find(wide) != std::string::npos, sd > 0) << *line;
+    }
+}
+
 }  // namespace
 }  // namespace symphong

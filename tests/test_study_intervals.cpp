@@ -232,6 +232,41 @@ TEST(RepeatsUntilSettled, StopsWhereTheClosedFormSays) {
     EXPECT_TRUE(variantsToRepeat(rows, 16, comparisons, H).empty());
 }
 
+// The reference's own error is in the answer's interval but does not keep the study adding repeats, which
+// cannot narrow it: `far` (MSE 0.5 +- 10%) against an exact yardstick stops at the closed form's count with or
+// without a shared error of sd 0.05 in every row, while its interval with that error stays wider than the
+// target (1.96 x 0.05 x |1/0.5 - 1/1| = 0.098 on the log scale, above log(1.05)).
+TEST(RepeatsUntilSettled, TheReferencesErrorDoesNotKeepAddingRepeats) {
+    const double H = 0.05;
+    const std::vector<VariantPair> comparisons = {{"far", "yard", false, 0}};
+    std::map<double, int> repeatsAt;  // by the rows' reference error
+    for (const double sd : {0.0, 0.05}) {
+        std::vector<StudyRow> rows;
+        std::map<std::string, int> count;
+        const auto add = [&](const std::string& v) {
+            const int i = count[v]++;
+            rows.push_back(syntheticRow(v, i, v == "far" ? 0.5 * (1 + 0.1 * (i % 2 ? -1.0 : 1.0)) : 1.0, 1.0));
+            rows.back().referenceSd = sd;
+        };
+        for (int i = 0; i < 2; ++i) add("yard"), add("far");
+        for (int round = 0; round < 1000; ++round) {
+            const std::set<std::string> need = variantsToRepeat(rows, 16, comparisons, H);
+            if (need.empty()) break;
+            for (const std::string& v : need) add(v);
+        }
+        repeatsAt[sd] = count["far"];
+        const auto full = compareVariants(rows, "far", "yard", 16), repeats =
+            compareVariants(rows, "far", "yard", 16, ErrorMeasure::Mse, ReferenceError::Left);
+        EXPECT_TRUE(settled(*repeats, H)) << sd;
+        EXPECT_EQ(settled(*full, H), sd == 0) << sd << ": " << intervalText(*full);
+        if (sd > 0) {
+            EXPECT_GT(std::log(full->hi / full->point), 1.959963984540054 * sd * 1.0 - 1e-12);
+        }
+    }
+    EXPECT_EQ(repeatsAt[0.05], repeatsAt[0.0]) << "repeats are not spent on an error they cannot narrow";
+    EXPECT_LT(repeatsAt[0.0], 100);
+}
+
 TEST(RepeatsUntilSettled, BiasedVariantsAreNotWaitedFor) {
     std::vector<StudyRow> rows;
     for (int i = 0; i < 3; ++i) {

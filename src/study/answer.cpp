@@ -177,8 +177,18 @@ std::string repeatsLine(const StudyConfig& c, const std::vector<StudyRow>& rows,
         "Efficiency = 1/(MSE x {}) at {} spp; factors are ratios of means over paired repeats (repeat r of every variant has seed r), "
         "[a, b] their 95% interval (delta method). Repeats: {}",
         costWords(c.cost), top, lo == hi ? fmt::format("{} per variant", lo) : fmt::format("{} to {} (`{}` {})", lo, hi, most, hi));
-    if (note.stoppedBy == "target")
+    if (note.stoppedBy == "target") {
         line += fmt::format("; stopped when every comparison was decided within +-{:.0f}%", 100 * note.targetInterval);
+        // As far as repeats decide it: the reference's own error, which no repeat narrows, can leave some wider.
+        std::vector<std::string> limited;
+        for (const VariantPair& cmp : studyComparisons(studyVariants(c))) {
+            if (biasedAt(rows, cmp.variant, top) || biasedAt(rows, cmp.against, top)) continue;
+            const auto r = compareVariants(rows, cmp.variant, cmp.against, top);
+            if (r && !settled(*r, note.targetInterval)) limited.push_back(fmt::format("`{}` against `{}`", cmp.variant, cmp.against));
+        }
+        if (!limited.empty())
+            line += fmt::format(" by its repeats; the reference's own error leaves {} wider (raise --reference-spp)", fmt::join(limited, ", "));
+    }
     else if (note.stoppedBy == "time" || note.stoppedBy == "max-repeats") {
         std::set<std::string> open = variantsToRepeat(rows, top, studyComparisons(studyVariants(c)), note.targetInterval);
         line += fmt::format("; stopped by {} before every comparison was decided within +-{:.0f}%{}",

@@ -53,7 +53,7 @@ std::vector<VariantPair> studyComparisons(const std::vector<StudyVariant>& varia
 }
 
 std::optional<RatioInterval> compareVariants(const std::vector<StudyRow>& rows, const std::string& variant, const std::string& against,
-                                             std::uint32_t spp, ErrorMeasure measure) {
+                                             std::uint32_t spp, ErrorMeasure measure, ReferenceError reference) {
     std::map<int, const StudyRow*> a, b;
     for (const StudyRow& r : rows)
         if (r.spp == spp) {
@@ -73,7 +73,8 @@ std::optional<RatioInterval> compareVariants(const std::vector<StudyRow>& rows, 
         }
     // Only the MSE has the reference's noise removed (study/measure.cpp) and so its realized error to carry;
     // the relative MSE's intervals stay the repeats' own.
-    return efficiencyRatio(errA, costA, errB, costB, measure == ErrorMeasure::Mse ? referenceSd : 0.0);
+    const bool shared = measure == ErrorMeasure::Mse && reference == ReferenceError::Included;
+    return efficiencyRatio(errA, costA, errB, costB, shared ? referenceSd : 0.0);
 }
 
 bool biasedAt(const std::vector<StudyRow>& rows, const std::string& variant, std::uint32_t spp) {
@@ -86,7 +87,7 @@ std::set<std::string> variantsToRepeat(const std::vector<StudyRow>& rows, std::u
     std::set<std::string> need;
     for (const VariantPair& c : comparisons) {
         if (biasedAt(rows, c.variant, spp) || biasedAt(rows, c.against, spp)) continue;
-        const auto r = compareVariants(rows, c.variant, c.against, spp);
+        const auto r = compareVariants(rows, c.variant, c.against, spp, ErrorMeasure::Mse, ReferenceError::Left);
         if (r && settled(*r, target)) continue;
         need.insert(c.variant);
         need.insert(c.against);

@@ -33,18 +33,24 @@ std::vector<VariantPair> studyComparisons(const std::vector<StudyVariant>& varia
 /// Which measure of the rows a ratio uses: 1/(MSE x cost) or 1/(relMSE x cost).
 enum class ErrorMeasure { Mse, RelMse };
 
-/// The efficiency ratio of `variant` over `against` at `spp` from the repeats both have (by repeat number); by
-/// MSE its interval includes the reference's own error that the rows carry (StudyRow::referenceSd).
+/// Whether a ratio's interval by MSE includes the reference's own error that the rows carry
+/// (StudyRow::referenceSd): the answer's intervals do; the rule that adds repeats judges the repeats' part
+/// alone, the one that more repeats can narrow.
+enum class ReferenceError { Included, Left };
+
+/// The efficiency ratio of `variant` over `against` at `spp` from the repeats both have (by repeat number).
 std::optional<RatioInterval> compareVariants(const std::vector<StudyRow>& rows, const std::string& variant, const std::string& against,
-                                             std::uint32_t spp, ErrorMeasure measure = ErrorMeasure::Mse);
+                                             std::uint32_t spp, ErrorMeasure measure = ErrorMeasure::Mse,
+                                             ReferenceError reference = ReferenceError::Included);
 
 /// Whether the variant's rows at spp are flagged significantly biased (its efficiency then means little:
 /// its comparisons are not waited for).
 bool biasedAt(const std::vector<StudyRow>& rows, const std::string& variant, std::uint32_t spp);
 
 /// The variants that need another repeat at spp for every comparison to be settled (study/intervals.h:
-/// ahead, behind or equal, relative half-width at most `target`): both sides of each unsettled comparison
-/// whose variants are not biased. Empty: every comparison is settled.
+/// ahead, behind or equal, relative half-width at most `target`) as far as repeats can settle it (the
+/// interval without the reference's own error, which no repeat narrows): both sides of each unsettled
+/// comparison whose variants are not biased. Empty: every comparison is settled so.
 std::set<std::string> variantsToRepeat(const std::vector<StudyRow>& rows, std::uint32_t spp, const std::vector<VariantPair>& comparisons,
                                        double target);
 
