@@ -166,7 +166,8 @@ TEST(StudyAnswer, RepeatsLineNamesTheComparisonsThatTheReferenceLeavesWide) {
                 rows.push_back(r);
             }
         const std::vector<std::string> answer = studyAnswer(c, rows, summarizeStudy(rows), RepeatsNote{"target", 0.1});
-        const auto line = std::find_if(answer.begin(), answer.end(), [](const std::string& l) { return l.find("Repeats:") != std::string::npos; });
+        const auto line =
+            std::find_if(answer.begin(), answer.end(), [](const std::string& l) { return l.find("Repeats:") != std::string::npos; });
         ASSERT_NE(line, answer.end()) << ::testing::PrintToString(answer);
         EXPECT_NE(line->find("stopped when every comparison was decided within +-10%"), std::string::npos) << *line;
         const std::string wide = " by its repeats; the reference's own error leaves `cosine` against `phong` wider (raise --reference-spp)";

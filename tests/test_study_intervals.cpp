@@ -103,7 +103,8 @@ TEST(EfficiencyRatio, ACommonErrorWidensTheIntervalByItsClosedForm) {
     EXPECT_NEAR(std::log(r->hi / r->point), z * sd * (1.0 - 0.25), 1e-12);
     EXPECT_NEAR(std::log(r->point / r->lo), z * sd * (1.0 - 0.25), 1e-12);
     r = efficiencyRatio({2, 2}, {1, 1}, {2, 2}, {3, 3}, sd);  // the same MSE: the shared error cancels in the ratio
-    EXPECT_DOUBLE_EQ(r->lo, 3.0);  // (2 x 3) / (2 x 1)
+    // (2 x 3) / (2 x 1): the ratio exactly
+    EXPECT_DOUBLE_EQ(r->lo, 3.0);
     EXPECT_DOUBLE_EQ(r->hi, 3.0);
     r = efficiencyRatio({1}, {1}, {4}, {1}, sd);  // one repeat: the shared error is the whole interval
     EXPECT_NEAR(std::log(r->hi / r->point), z * sd * 0.75, 1e-12);
@@ -255,8 +256,8 @@ TEST(RepeatsUntilSettled, TheReferencesErrorDoesNotKeepAddingRepeats) {
             for (const std::string& v : need) add(v);
         }
         repeatsAt[sd] = count["far"];
-        const auto full = compareVariants(rows, "far", "yard", 16), repeats =
-            compareVariants(rows, "far", "yard", 16, ErrorMeasure::Mse, ReferenceError::Left);
+        const auto full = compareVariants(rows, "far", "yard", 16);
+        const auto repeats = compareVariants(rows, "far", "yard", 16, ErrorMeasure::Mse, ReferenceError::Left);
         EXPECT_TRUE(settled(*repeats, H)) << sd;
         EXPECT_EQ(settled(*full, H), sd == 0) << sd << ": " << intervalText(*full);
         if (sd > 0) {

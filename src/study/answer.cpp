@@ -187,9 +187,9 @@ std::string repeatsLine(const StudyConfig& c, const std::vector<StudyRow>& rows,
             if (r && !settled(*r, note.targetInterval)) limited.push_back(fmt::format("`{}` against `{}`", cmp.variant, cmp.against));
         }
         if (!limited.empty())
-            line += fmt::format(" by its repeats; the reference's own error leaves {} wider (raise --reference-spp)", fmt::join(limited, ", "));
-    }
-    else if (note.stoppedBy == "time" || note.stoppedBy == "max-repeats") {
+            line +=
+                fmt::format(" by its repeats; the reference's own error leaves {} wider (raise --reference-spp)", fmt::join(limited, ", "));
+    } else if (note.stoppedBy == "time" || note.stoppedBy == "max-repeats") {
         std::set<std::string> open = variantsToRepeat(rows, top, studyComparisons(studyVariants(c)), note.targetInterval);
         line += fmt::format("; stopped by {} before every comparison was decided within +-{:.0f}%{}",
                             note.stoppedBy == "time" ? "the --time budget" : "--max-repeats", 100 * note.targetInterval,
