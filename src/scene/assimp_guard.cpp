@@ -6,6 +6,11 @@
 // file; when it read it, the parent reads the file itself (the same code on the same bytes: it cannot
 // crash where the child did not). The cost is a second parse of every file that loads (docs/performance.md).
 // SYMPHONG_ASSIMP_IN_PROCESS=1 skips the child (the fuzzers want Assimp's crashes in their own process).
+// The child is a fork() without exec: safe where every lock the child takes survives the fork, as glibc's
+// allocator's do. GCC 12's AddressSanitizer allocator does not hold its locks across fork(), so a child
+// forked while another thread allocates waits forever on its first allocation (a Python test of the
+// sanitizer build hung so, its child stopped in ASan's SizeClassAllocator64 mutex, on 2026-12-06): in an
+// ASan build the file is read in the process when the process has other threads.
 #include "scene/assimp_guard.h"
 
 #include "io/input_error.h"
@@ -97,8 +102,19 @@ const aiScene* importWithAssimp(Assimp::Importer& importer, const std::string& p
     return ai && ai->mRootNode && !(ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) ? ai : nullptr;
 }
 
+/// The threads of this process (Linux: the entries of /proc/self/task); 0 when it cannot tell.
+[[maybe_unused]] static std::size_t processThreads() {
+    std::error_code ec;
+    std::size_t n = 0;
+    for (std::filesystem::directory_iterator it("/proc/self/task", ec), end; !ec && it != end; it.increment(ec)) ++n;
+    return ec ? 0 : n;
+}
+
 void checkAssimpInChild(const std::string& path) {
     if (const char* env = std::getenv("SYMPHONG_ASSIMP_IN_PROCESS"); env && std::string(env) == "1") return;
+#if defined(__SANITIZE_ADDRESS__)
+    if (processThreads() != 1) return;  // see the top of the file: ASan's allocator and fork()
+#endif
     std::error_code ec;
     const std::uint64_t limit = assimpChildMemoryLimit(std::filesystem::file_size(path, ec));
     int fds[2];
