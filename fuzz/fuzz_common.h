@@ -475,8 +475,8 @@ inline std::string sceneProblem(const Scene& s) {
 /// it: requireSameRender against another render (InputError, the expected answer, is caught here), the
 /// image and its variance, finite where the state is.
 /// What is wrong with learned splitting factors (splitting/ears.h Factors), or "": none at all, or every
-/// table one entry a grid cell, each entry -1 (no estimate) or a finite number >= 0, the first hit's
-/// factor -1 or in [1, kMaxFactor], its MIS share -1 or in [0, 1], and a finite scale >= 0.
+/// table one entry a grid cell, each entry what learnFactors can put there (Factors::learnedValue), and a
+/// finite scale >= 0.
 inline std::string earsFactorsProblem(const ears::Factors& f) {
     if (f.empty()) return {};
     if (!std::isfinite(f.scale) || f.scale < 0) return "a scale of " + std::to_string(f.scale);
@@ -485,13 +485,9 @@ inline std::string earsFactorsProblem(const ears::Factors& f) {
         const std::vector<float>& table = *tables[t];
         if (table.size() != ears::Grid::cellCount())
             return "factor table " + std::to_string(t) + " of " + std::to_string(table.size()) + " cells";
-        const bool firstHit = &table == &f.firstHit, share = &table == &f.misShare;
-        for (std::size_t c = 0; c < table.size(); ++c) {
-            const float v = table[c];
-            if (v == -1.0f) continue;
-            if (!std::isfinite(v) || v < 0 || (firstHit && (v < 1 || v > ears::kMaxFactor)) || (share && v > 1))
-                return "factor table " + std::to_string(t) + " holds " + std::to_string(v) + " in cell " + std::to_string(c);
-        }
+        for (std::size_t c = 0; c < table.size(); ++c)
+            if (!f.learnedValue(table, table[c]))
+                return "factor table " + std::to_string(t) + " holds " + std::to_string(table[c]) + " in cell " + std::to_string(c);
     }
     return {};
 }

@@ -192,19 +192,11 @@ std::string unpackEars(const EarsSections& e, ears::Learning& l) {
     if (!e.factorCells.empty() && l.factors.empty())
         return "its learned splitting lists factor cells, but its header says it has no factors";
     const auto tables = l.factors.tables();  // a three-value checkpoint leaves the last (misShare) at -1
-    // What learnFactors puts in a table: -1, or a finite number >= 0; the first hit's factor in [1,
-    // kMaxFactor], its MIS share in [0, 1].
-    const auto written = [&](const std::vector<float>* table, float v) {
-        if (v == -1.0f) return true;
-        if (!(v >= 0) || !std::isfinite(v)) return false;
-        if (table == &l.factors.firstHit) return v >= 1 && v <= ears::kMaxFactor;
-        return table != &l.factors.misShare || v <= 1;
-    };
     for (std::size_t i = 0; i < e.factorCells.size(); ++i) {
         if (e.factorCells[i] >= cells) return "its learned splitting names a cell out of range";
         const float* v = &e.factorRatios[e.valuesPerCell * i];
         for (std::size_t k = 0; k < e.valuesPerCell; ++k) {
-            if (!written(tables[k], v[k]))
+            if (!l.factors.learnedValue(*tables[k], v[k]))
                 return fmt::format("its learned splitting holds a factor that no render writes: {} in cell {}", v[k], e.factorCells[i]);
             (*tables[k])[e.factorCells[i]] = v[k];
         }

@@ -280,6 +280,14 @@ struct Factors {
         return cellAt(table, grid.cell(p, Grid::kLevels - 1));
     }
     long cellAt(const Grid& grid, const Vec3& p) const { return cellAt(momentRatio, grid, p); }
+    /// Whether learnFactors can put v in `table` (one of tables()): -1 (no estimate) or a finite number >= 0,
+    /// the first hit's factor in [1, kMaxFactor], its MIS share in [0, 1]. What a checkpoint's factors must be.
+    bool learnedValue(const std::vector<float>& table, float v) const {
+        if (v == -1.0f) return true;
+        if (!(v >= 0) || !std::isfinite(v)) return false;
+        if (&table == &firstHit) return v >= 1 && v <= kMaxFactor;
+        return &table != &misShare || v <= 1;
+    }
 };
 
 /// What a render measured over one epoch: the sums (kSections x Grid::cellCount()), the cost C of a
