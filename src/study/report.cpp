@@ -11,7 +11,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdlib>
 
@@ -166,15 +165,15 @@ std::string referenceNoiseWords(const std::vector<StudySummary>& summary, const 
     for (const auto& s : summary)
         if (s.mse > 0 && (!least || s.mse < least->mse)) least = &s;
     if (!least || !(reference.noise >= 0.5 * least->mse)) return {};
-    const std::string what = fmt::format(
-        "the reference's own noise ({:.3g}) is at least half of some estimators' squared error (`{}` at {} spp: {:.3g}). It is "
-        "removed from every MSE; what is left of it, one error shared by every render (standard deviation {:.3g}, {:.1f}% of that "
-        "MSE), no number of repeats averages away, and the efficiency intervals by MSE include it",
-        reference.noise, least->variant, least->spp, least->mse, reference.noiseSd, 100 * reference.noiseSd / least->mse);
     // Above a tenth of the MSE (one standard deviation) it widens those intervals more than the repeats do at
     // the study's usual +-10% target.
-    if (reference.noiseSd > 0.1 * least->mse) return "**Warning:** " + what + ". Raise --reference-spp.\n\n";
-    return std::string(1, static_cast<char>(std::toupper(static_cast<unsigned char>(what[0])))) + what.substr(1) + ".\n\n";
+    const bool warn = reference.noiseSd > 0.1 * least->mse;
+    return fmt::format(
+        "{} reference's own noise ({:.3g}) is at least half of some estimators' squared error (`{}` at {} spp: {:.3g}). It is "
+        "removed from every MSE; what is left of it, one error shared by every render (standard deviation {:.3g}, {:.1f}% of that "
+        "MSE), no number of repeats averages away, and the efficiency intervals by MSE include it.{}\n\n",
+        warn ? "**Warning:** the" : "The", reference.noise, least->variant, least->spp, least->mse, reference.noiseSd,
+        100 * reference.noiseSd / least->mse, warn ? " Raise --reference-spp." : "");
 }
 
 std::string reportMarkdown(const ReportInputs& in) {
