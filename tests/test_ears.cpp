@@ -838,4 +838,12 @@ TEST(EarsCli, BadValuesAreRefusedWithExitCode2) {
     EXPECT_NE(r.err.find("ears-orbit needs --estimator phong (got 'cosine')"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(tmp.file("a.png")) || std::filesystem::exists(tmp.file("b.png")) ||
                  std::filesystem::exists(tmp.file("c.png")) || std::filesystem::exists(tmp.file("d.png")));
+    // The study's reference takes the same names, and ears-orbit there needs a phong reference too.
+    r = test::runCliArgs({"study", "--reference-splitting", "foo", "--out", tmp.file("study1")});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("--reference-splitting: foo not in {none,ears,ears-orbit}"), std::string::npos) << r.err;
+    r = test::runCliArgs({"study", "--reference-splitting", "ears-orbit", "--reference-estimator", "cosine", "--out", tmp.file("study2")});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("--reference-splitting ears-orbit: needs --reference-estimator phong"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(tmp.file("study1")) || std::filesystem::exists(tmp.file("study2")));
 }

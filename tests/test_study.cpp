@@ -141,6 +141,59 @@ TEST(StudyReference, ItsOwnErrorSpreadsAsItsNoiseSdSays) {
     EXPECT_NEAR(mean, 0.0, 4 * spread / std::sqrt(pairs));  // the noise removed is the error's mean
 }
 
+// A reference that splits (--reference-splitting ears) against a second method, a plain one: both are
+// unbiased, so the mean squared difference d of an EARS reference and an independent plain one is, on
+// average, the sum of their noises (each its pixels' variances over the samples, which under EARS come from
+// epochs of different factors), with no bias term; over 24 pairs of the smooth-sky scene the mean of
+// d - noise_ears - noise_plain must be within 4 standard errors of 0 (their spread over the pairs), and
+// the EARS reference must split (more rays) and have the smaller noise (0.65 of the plain one's at equal spp
+// on this 16 x 12 image; 0.21 at 128 x 96 and 1024 spp, where it has more to learn from).
+// Only a reference that splits names its splitting in the cache's key: the caches of plain references
+// made before the option keep theirs.
+TEST(StudyReference, OneThatSplitsIsUnbiasedAndItsNoiseIsWhatItSays) {
+    const Scene scene = loadScene(SYMPHONG_SOURCE_DIR "/scenes/regime/sky-n10.json");
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    StudyConfig c;
+    EXPECT_FALSE(referenceKey(c).contains("splitting"));
+    EXPECT_EQ(referenceMethod(c), "phong");
+    c.referenceSplitting = "ears";
+    EXPECT_EQ(referenceKey(c)["splitting"], "ears");
+    EXPECT_EQ(referenceMethod(c), "phong+ears");
+    RenderSettings rs;
+    rs.width = 16, rs.height = 12, rs.spp = 256, rs.sampler = "independent", rs.threads = 2;
+    const int pairs = 24;
+    const double P = rs.width * rs.height;
+    std::vector<double> excess;
+    double earsNoise = 0, plainNoise = 0, earsRays = 0, plainRays = 0;
+    for (int k = 0; k < pairs; ++k) {
+        rs.seed = 2 * k + 1;
+        rs.trace.splitting = SplittingMode::Ears;
+        const RenderResult split = render(scene, accel, *est, rs);
+        rs.seed = 2 * k + 2;
+        rs.trace.splitting = SplittingMode::None;
+        const RenderResult plain = render(scene, accel, *est, rs);
+        const Reference r1 = referenceFromRender(c, split, rs.spp), r2 = referenceFromRender(c, plain, rs.spp);
+        double d = 0;
+        for (std::size_t p = 0; p < r1.image.pixels.size(); ++p) {
+            const double diff = luminance(r1.image.pixels[p]) - luminance(r2.image.pixels[p]);
+            d += diff * diff / P;
+        }
+        excess.push_back(d - r1.noise - r2.noise);
+        earsNoise += r1.noise / pairs, plainNoise += r2.noise / pairs;
+        earsRays += static_cast<double>(split.stats.rays), plainRays += static_cast<double>(plain.stats.rays);
+    }
+    double mean = 0, ss = 0;
+    for (double e : excess) mean += e / pairs;
+    for (double e : excess) ss += (e - mean) * (e - mean);
+    const double standardError = std::sqrt(ss / (pairs - 1) / pairs);
+    std::printf("EARS reference against a plain one: d - noises %.3g +- %.3g (noises %.3g and %.3g)\n", mean, standardError, earsNoise,
+                plainNoise);
+    EXPECT_NEAR(mean, 0.0, 4 * standardError);
+    EXPECT_GT(earsRays, 1.2 * plainRays);
+    EXPECT_LT(earsNoise, 0.85 * plainNoise);
+}
+
 // The report's words on the reference's noise: none while it is less than half of every MSE; where it is at
 // least half of the least one, how much of it that MSE still shares after its removal (the standard deviation,
 // and as a share of the MSE), which the intervals include; a warning above a tenth of the MSE.
@@ -512,6 +565,15 @@ TEST_F(TinyStudy, TheReferenceIsCachedAndReusedOnlyWhenTheSettingsMatch) {
     EXPECT_NE(readAll(*dir_ / "reference.exr"), exr);
     EXPECT_EQ(nlohmann::json::parse(readAll(*dir_ / "reference.json"))["key"]["spp"], 256);
     c.referenceSpp = 512;
+    c.referenceSplitting = "ears";
+    EXPECT_TRUE(runStudy(c).referenceRendered) << "a reference that splits is another reference";
+    const nlohmann::json split = nlohmann::json::parse(readAll(*dir_ / "reference.json"));
+    EXPECT_EQ(split["key"]["splitting"], "ears");
+    EXPECT_NE(readAll(*dir_ / "reference.exr"), exr);
+    const nlohmann::json results = nlohmann::json::parse(readAll(*dir_ / "results.json"));
+    EXPECT_EQ(results["config"]["reference"]["splitting"], "ears");
+    EXPECT_NE(readAll(*dir_ / "report.md").find("Reference: `phong+ears` at 512 spp"), std::string::npos);
+    c.referenceSplitting = "none";
     EXPECT_TRUE(runStudy(c).referenceRendered);  // leave the cache as the suite found it
     EXPECT_EQ(readAll(*dir_ / "reference.exr"), exr) << "the same settings render the same reference, bit for bit";
 }
@@ -624,6 +686,28 @@ TEST(Study, ResumeKeepsTheFinishedGroupsAndEndsWithAnUninterruptedStudysRows) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("the earlier study had seed 1, not 2"), std::string::npos) << e.what();
     }
+    // A study written before a setting existed (here --reference-splitting: its results lack the key) resumes
+    // under that setting's default, and only under it.
+    c.seed = 1;
+    nlohmann::json saved = nlohmann::json::parse(readAll(parts / "results.json"));
+    ASSERT_EQ(saved["settings"].erase("reference_splitting"), 1u);
+    writeFile((parts / "results.json").string(), saved.dump(2));
+    rendered = 0;
+    setStudyRowObserver([&](std::size_t) { ++rendered; });
+    EXPECT_EQ(runStudy(c).keptRows, static_cast<int>(expected.rows.size()));
+    setStudyRowObserver(nullptr);
+    EXPECT_EQ(rendered, 0u);
+    saved = nlohmann::json::parse(readAll(parts / "results.json"));
+    ASSERT_EQ(saved["settings"].erase("reference_splitting"), 1u);
+    writeFile((parts / "results.json").string(), saved.dump(2));
+    c.referenceSplitting = "ears";
+    try {
+        runStudy(c);
+        ADD_FAILURE() << "a resume with a reference that splits was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("the earlier study had reference_splitting (not set), not \"ears\""), std::string::npos)
+            << e.what();
+    }
     fs::remove_all(whole);
     fs::remove_all(parts);
 }
@@ -638,6 +722,10 @@ TEST(Study, BadConfigurationsAreInputErrors) {
     EXPECT_THROW(runStudy(c), InputError);
     c = tinyConfig(dir);
     c.referenceEstimator = "paper";
+    EXPECT_THROW(runStudy(c), InputError);
+    c = tinyConfig(dir);
+    c.referenceSplitting = "ears-orbit";
+    c.referenceEstimator = "cosine";  // ears-orbit's orbits are phong's
     EXPECT_THROW(runStudy(c), InputError);
     c = tinyConfig(dir);
     c.referencePath = (dir / "missing.exr").string();

@@ -122,6 +122,10 @@ std::uint32_t checkConfig(StudyConfig& c) {
     }
     if (!estimatorEntry(c.referenceEstimator).traits.hasDensity)
         throw InputError(fmt::format("--reference-estimator: '{}' is biased; choose an unbiased estimator", c.referenceEstimator));
+    if (splittingMode(c.referenceSplitting) == SplittingMode::EarsOrbit && c.referenceEstimator != "phong")
+        throw InputError(fmt::format("--reference-splitting ears-orbit: needs --reference-estimator phong (its orbits are of phong's "
+                                     "lobe), not '{}'",
+                                     c.referenceEstimator));
     if (c.samplers.empty()) throw InputError("--samplers: the list is empty");
     for (const auto& name : c.samplers)
         if (std::find(samplerNames().begin(), samplerNames().end(), name) == samplerNames().end())
@@ -155,7 +159,7 @@ std::uint32_t checkConfig(StudyConfig& c) {
 }
 
 nlohmann::json referenceKey(const StudyConfig& c) {
-    return {{"scene", sceneFingerprint(c.scene)},
+    nlohmann::json key = {{"scene", sceneFingerprint(c.scene)},
             {"width", c.width},
             {"height", c.height},
             {"spp", c.referenceSpp},
@@ -166,6 +170,14 @@ nlohmann::json referenceKey(const StudyConfig& c) {
             {"symmetric_n", c.options.symmetricN},
             {"error", c.referenceError},
             {"version", 2}};
+    // Only a reference that splits names its splitting: the caches of references rendered before the option
+    // existed (all unsplit) keep their key.
+    if (c.referenceSplitting != "none") key["splitting"] = c.referenceSplitting;
+    return key;
+}
+
+std::string referenceMethod(const StudyConfig& c) {
+    return c.referenceSplitting == "none" ? c.referenceEstimator : c.referenceEstimator + "+" + c.referenceSplitting;
 }
 
 EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v) {

@@ -32,7 +32,7 @@ Reference existingReference(const StudyConfig& c, const fs::path& dir, const nlo
                 ref.noise = cached.at("pixel_variance").get<double>();
                 ref.noiseSd = cached.at("noise_sd").get<double>();  // a cache written before it was kept: rendered again
                 ref.have = ref.image.width == c.width && ref.image.height == c.height;
-                ref.note = fmt::format("Reference: `{}` at {} spp, cached in reference.exr.", c.referenceEstimator, c.referenceSpp);
+                ref.note = fmt::format("Reference: `{}` at {} spp, cached in reference.exr.", referenceMethod(c), c.referenceSpp);
             }
         } catch (const std::exception&) {
             ref = Reference{};  // a damaged cache is re-rendered
@@ -56,7 +56,7 @@ Reference referenceFromRender(const StudyConfig& c, const RenderResult& r, std::
     }
     ref.noiseSd = pixels > 0 ? std::sqrt(2 * fourth) / pixels : 0.0;
     ref.note = fmt::format(
-        "Reference: `{}` at {} spp{} ({:.1f} s), cached in reference.exr.", c.referenceEstimator, spp,
+        "Reference: `{}` at {} spp{} ({:.1f} s), cached in reference.exr.", referenceMethod(c), spp,
         c.referenceError > 0 ? fmt::format(" (stopped at a relative error of its mean of {:.3g}%)", 100 * c.referenceError) : "",
         r.stats.seconds);
     ref.have = true;

@@ -143,7 +143,7 @@ nlohmann::json reportHtmlData(const ReportInputs& in, const fs::path& dir) {
     d["width"] = c.width;
     d["height"] = c.height;
     d["spp"] = c.spps;
-    d["reference"] = {{"label", c.referencePath.empty() ? fmt::format("reference ({}, {} spp)", c.referenceEstimator, c.referenceSpp)
+    d["reference"] = {{"label", c.referencePath.empty() ? fmt::format("reference ({}, {} spp)", referenceMethod(c), c.referenceSpp)
                                                         : fmt::format("reference ({})", c.referencePath)},
                       {"image", halfImageBase64(in.reference.image)}};
     nlohmann::json variants = nlohmann::json::array();

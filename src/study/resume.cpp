@@ -46,8 +46,13 @@ KeptGroups keptGroups(const StudyConfig& c, const fs::path& dir, const std::func
         throw InputError(fmt::format("{}: cannot be resumed from ({}); remove it or choose another --out", file.string(), e.what()));
     }
     const nlohmann::json now = studyResultSettingsJson(c), before = saved.value("settings", nlohmann::json::object());
+    // A setting that the study's build did not have yet (absent from its settings) was its default then.
+    const nlohmann::json defaults = studyResultSettingsJson(StudyConfig{});
+    const auto unchanged = [&](const std::string& key, const nlohmann::json& value) {
+        return before.contains(key) ? before.at(key) == value : defaults.contains(key) && defaults.at(key) == value;
+    };
     for (auto it = now.begin(); it != now.end(); ++it)
-        if (!before.contains(it.key()) || before.at(it.key()) != it.value())
+        if (!unchanged(it.key(), it.value()))
             throw InputError(fmt::format("{}: the earlier study had {} {}, not {}: resume with the same settings, or choose another --out",
                                          file.string(), it.key(), before.contains(it.key()) ? before.at(it.key()).dump() : "(not set)",
                                          it.value().dump()));

@@ -208,6 +208,7 @@ bool StudyRun::renderReference() {
         rs.spp = c_.referenceSpp;
         rs.seed = mixSeed(c_.seed, 0xFEFE);
         rs.sampler = c_.referenceSampler;
+        rs.trace.splitting = splittingMode(c_.referenceSplitting);
         const auto est = makeEstimator(c_.referenceEstimator, c_.options);
         StopRules rules;
         rules.targetError = c_.referenceError;

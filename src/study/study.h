@@ -71,6 +71,9 @@ struct StudyConfig {
     double referenceError = 0;          ///< > 0: the reference stops at this relative error of its mean
     std::string referenceEstimator = "phong";
     std::string referenceSampler = "independent";  ///< independent: the reference's own noise is then known
+    /// How the reference's path vertices continue (render --splitting): "none", or "ears" / "ears-orbit" (unbiased,
+    /// learned from the reference's own samples: less noise for its time where splitting pays, as on smooth skies)
+    std::string referenceSplitting = "none";
     std::string outDir = "out/study";
     std::uint32_t heatmapSpp = 0;  ///< spp of the heat maps and crops; 0: the middle of `spps`
     bool pageTopSppOnly = false;   ///< report.html holds the renders of the top spp only (a smaller page)

@@ -29,6 +29,8 @@ std::uint32_t checkConfig(StudyConfig& c);
 /// What the cached reference must match: scene (its file's content hash), size, spp, estimator, sampler,
 /// depth, seed.
 nlohmann::json referenceKey(const StudyConfig& c);
+/// How the reference is rendered, as a variant's label would say it: its estimator, "+ears" when it splits.
+std::string referenceMethod(const StudyConfig& c);
 /// The seed of repeat `rep` at spp: the same for every variant (repeats are paired).
 std::uint64_t repeatSeed(std::uint64_t seed, std::uint32_t spp, int rep);
 /// The estimator options of a variant (its mode, its orbit).

@@ -74,6 +74,7 @@ void StudyWriter::writeResults(StudyOutcome& outcome, const Reference& ref) cons
         {"reference",
          {{"path", c_.referencePath},
           {"estimator", c_.referenceEstimator},
+          {"splitting", c_.referenceSplitting},
           {"spp", c_.referenceSpp},
           {"mean_luminance", ref.mean.mean},
           {"pixel_variance", ref.noise},
