@@ -123,9 +123,10 @@ std::uint32_t checkConfig(StudyConfig& c) {
     if (!estimatorEntry(c.referenceEstimator).traits.hasDensity)
         throw InputError(fmt::format("--reference-estimator: '{}' is biased; choose an unbiased estimator", c.referenceEstimator));
     if (splittingMode(c.referenceSplitting) == SplittingMode::EarsOrbit && c.referenceEstimator != "phong")
-        throw InputError(fmt::format("--reference-splitting ears-orbit: needs --reference-estimator phong (its orbits are of phong's "
-                                     "lobe), not '{}'",
-                                     c.referenceEstimator));
+        throw InputError(
+            fmt::format("--reference-splitting ears-orbit: needs --reference-estimator phong (its orbits are of phong's "
+                        "lobe), not '{}'",
+                        c.referenceEstimator));
     if (c.samplers.empty()) throw InputError("--samplers: the list is empty");
     for (const auto& name : c.samplers)
         if (std::find(samplerNames().begin(), samplerNames().end(), name) == samplerNames().end())
@@ -160,16 +161,16 @@ std::uint32_t checkConfig(StudyConfig& c) {
 
 nlohmann::json referenceKey(const StudyConfig& c) {
     nlohmann::json key = {{"scene", sceneFingerprint(c.scene)},
-            {"width", c.width},
-            {"height", c.height},
-            {"spp", c.referenceSpp},
-            {"estimator", c.referenceEstimator},
-            {"sampler", c.referenceSampler},
-            {"max_depth", c.maxDepth},
-            {"seed", c.seed},
-            {"symmetric_n", c.options.symmetricN},
-            {"error", c.referenceError},
-            {"version", 2}};
+                          {"width", c.width},
+                          {"height", c.height},
+                          {"spp", c.referenceSpp},
+                          {"estimator", c.referenceEstimator},
+                          {"sampler", c.referenceSampler},
+                          {"max_depth", c.maxDepth},
+                          {"seed", c.seed},
+                          {"symmetric_n", c.options.symmetricN},
+                          {"error", c.referenceError},
+                          {"version", 2}};
     // Only a reference that splits names its splitting: the caches of references rendered before the option
     // existed (all unsplit) keep their key.
     if (c.referenceSplitting != "none") key["splitting"] = c.referenceSplitting;
