@@ -523,7 +523,7 @@ inline std::string checkpointProblem(const CheckpointRead& c) {
         // (what the resumed render does next), are what learnFactors promises.
         if (const std::string p = earsFactorsProblem(s.ears->factors); !p.empty()) return "as read, " + p;
         ears::Learning next = *s.ears;
-        next.advance(s.variancePerSample(), s.rays, s.samples);
+        next.advance(s.variancePerSample(), s.rays, s.samples, s.paths, true);
         if (const std::string p = earsFactorsProblem(next.factors); !p.empty()) return "learned from the sums read, " + p;
     }
     return {};

@@ -215,14 +215,16 @@ void shareLearning(const MpiJob& job, const Scene& scene, RenderState& state) {
     double box[7] = {l.grid.lo().x, l.grid.lo().y, l.grid.lo().z, l.grid.hi().x, l.grid.hi().y, l.grid.hi().z, l.factors.scale};
     // The epoch, whether there are factors, and whether rank 0 probed: after a probe no rank records the first
     // hit from epoch 1 on (render/renderer.cpp recordsFirstHit), as one process would not.
-    std::int32_t epochAndFactors[3] = {l.epoch, l.factors.empty() ? 0 : 1, l.probed ? 1 : 0};
+    // And whether EARS rests (every rank then traces as --splitting none).
+    std::int32_t epochAndFactors[4] = {l.epoch, l.factors.empty() ? 0 : 1, l.probed ? 1 : 0, l.resting ? 1 : 0};
     MPI_Bcast(box, 7, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    MPI_Bcast(epochAndFactors, 3, MPI_INT32_T, 0, MPI_COMM_WORLD);
+    MPI_Bcast(epochAndFactors, 4, MPI_INT32_T, 0, MPI_COMM_WORLD);
     const int cells = static_cast<int>(ears::Grid::cellCount());
     if (!job.root()) {
         l.grid = ears::Grid::fromBox(Vec3(box[0], box[1], box[2]), Vec3(box[3], box[4], box[5]));
         l.epoch = epochAndFactors[0];
         l.probed = epochAndFactors[2] != 0;
+        l.resting = epochAndFactors[3] != 0;
         l.factors = ears::Factors{};
         l.factors.scale = box[6];
         if (epochAndFactors[1])
@@ -345,14 +347,15 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
         std::uint32_t end = 0;
         if (job.root()) {
             const std::uint32_t reached = state.samplesReached(), bound = std::min(upTo, state.sppBound);
-            if (reached < bound && !(settings.cancel && settings.cancel->load())) end = std::min(bound, ears::epochEnd(reached));
+            if (reached < bound && !(settings.cancel && settings.cancel->load()))
+                end = state.ears && state.ears->resting ? bound : std::min(bound, ears::epochEnd(reached));
         }
         MPI_Bcast(&end, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
         if (end == 0) return;
         shareLearning(job, scene, state);
         renderSegmentDistributed(job, scene, accel, estimator, settings, state, end, progress, distributed, tracer);
         gatherLearning(job, state);
-        if (job.root()) endEpochIfDone(state);
+        if (job.root()) endEpochIfDone(state, earsMayRest(estimator, settings));
     }
 }
 

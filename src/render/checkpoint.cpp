@@ -132,6 +132,8 @@ nlohmann::json earsHeader(const ears::Learning& l, const EarsSections& e) {
             {"has_factors", !l.factors.empty()},
             {"rays_at_start", l.raysAtStart},
             {"samples_at_start", l.samplesAtStart},
+            {"paths_at_start", l.pathsAtStart},
+            {"resting", l.resting},
             {"variance_at_start", l.varianceAtStart},
             {"factor_cells", e.factorCells.size()},
             {"factor_values", e.valuesPerCell},
@@ -157,6 +159,14 @@ ears::Learning earsFromHeader(const nlohmann::json& j, EarsSections& e) {
     const std::uint64_t epoch = count("epoch"), factorCells = count("factor_cells"), sumCells = count("sum_cells");
     l.raysAtStart = count("rays_at_start");
     l.samplesAtStart = count("samples_at_start");
+    // "paths_at_start" and "resting" are absent from checkpoints written before EARS could rest: it did not,
+    // and the epoch of such a checkpoint cannot decide to (its paths at its start unknown).
+    l.pathsAtStart = j.contains("paths_at_start") ? count("paths_at_start") : ears::kUnknownPaths;
+    if (j.contains("resting")) {
+        if (!j.at("resting").is_boolean())
+            throw std::invalid_argument(fmt::format("ears resting: {} is not true or false", j.at("resting").dump()));
+        l.resting = j.at("resting").get<bool>();
+    }
     l.varianceAtStart = j.at("variance_at_start").get<double>();
     if (!std::isfinite(l.varianceAtStart) || l.varianceAtStart < 0) throw std::invalid_argument("ears: variance_at_start is not a finite number >= 0");
     if (epoch > 32 || factorCells > ears::Grid::cellCount() || sumCells > ears::Learning::sumCount())

@@ -173,6 +173,12 @@ inline double PathTracer::continuationFactor(std::size_t finest, const Color& th
     return q;
 }
 
+// A resting EARS's factor: continuationFactor's where no cell has an estimate, but 1 at the first hit (its
+// learned factors split nothing there): plain roulette by the vertex's throughput from the roulette depth on.
+inline double PathTracer::restingFactor(const Color& throughput, int depth) const {
+    return depth == 0 || depth + 1 < settings_.rrDepth ? 1.0 : ears::throughputSurvival(maxComponent(throughput));
+}
+
 inline double PathTracer::misScale(std::size_t finest, double q, int depth) const {
     const ears::Factors& f = learning_->factors;
     return depth == 0 && !f.empty() && f.misShare[finest] >= 0 ? 1 + (q - 1) * f.misShare[finest] : q;
@@ -198,8 +204,10 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     // --splitting ears: the vertex's finest cell of the learned grid, found once for its factor and its
     // continuations' records; the factor's entries are fetched into the cache now, while the shading
     // below hides the wait (the tables are scattered over hundreds of kilobytes: a miss each vertex).
-    const std::size_t cell = learning_ ? learning_->grid.cell(p, ears::Grid::kLevels - 1) : 0;
-    if (learning_) prefetchFactor(cell, depth);
+    // A resting EARS (setResting) looks nothing up: its vertices take the factors of cells without estimates.
+    const bool learned = learning_ && !resting_;
+    const std::size_t cell = learned ? learning_->grid.cell(p, ears::Grid::kLevels - 1) : 0;
+    if (learned) prefetchFactor(cell, depth);
     Vec3 ng = geometricNormals_[hit.prim];
     const bool frontFace = dot(ng, d) < 0;
 
@@ -230,9 +238,9 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     }
     // --splitting ears decides the vertex's continuations after the shadow ray (its factor's cache line has
     // arrived by then) and before light sampling's MIS weight, which needs q.
-    const double q = learning_ ? continuationFactor(cell, throughput, depth) : 0.0;
+    const double q = learned ? continuationFactor(cell, throughput, depth) : learning_ ? restingFactor(throughput, depth) : 0.0;
     if (q > 0) {
-        const double mis = misScale(cell, q, depth);
+        const double mis = learned ? misScale(cell, q, depth) : q;
         if (lightSampling_) L += direct.value(mis);
         if (depth > 0 && q <= 1) return L + rouletteContinuation(sc, frame, ng, p, cell, shadowed, q, depth, path, throughput, pc);
         if (depth == 0 && q == 1) return L + singleFirstHit(sc, frame, ng, p, cell, shadowed, path, throughput, pc);

@@ -158,6 +158,10 @@ public:
     /// off in the render's last), and among them the first hit's (`firstHit`: off once its factors hold for
     /// good, splitting/learning.h kProbeSamples). Not while a render uses the tracer.
     void setRecords(bool records, bool firstHit) { records_ = records, firstHitRecords_ = records && firstHit; }
+    /// --splitting ears: whether EARS rests (ears::Learning::resting): no vertex then looks up or records a
+    /// factor; each takes one continuation, with roulette by its throughput from the roulette depth on
+    /// (restingFactor: what learned factors that split nothing floor to). Not while a render uses the tracer.
+    void setResting(bool resting) { resting_ = resting; }
     double epsilon() const { return epsilon_; }
 
 private:
@@ -207,6 +211,8 @@ private:
     /// the first hit 1 + (q - 1) t with its cell's learned MIS share t (splitting/ears.h misShare) where it
     /// has one.
     double misScale(std::size_t finest, double q, int depth) const;
+    /// --splitting ears, resting (setResting): continuationFactor of a cell without estimates, 1 at the first hit.
+    double restingFactor(const Color& throughput, int depth) const;
     /// --splitting ears: floor(q + u) = n continuations (at the first hit a power of two), averaged (weight 1/n; under roulette, q < 1,
     /// 1/q), their directions' MIS densities times `mis` (misScale); each is reported with its value and rays in
     /// scratch.splitRecords (in cell `cell`, the vertex's finest) unless this is the render's last epoch. Continuation j >= 1 starts a
@@ -255,6 +261,7 @@ private:
     TraceSettings settings_;
     const ears::Learning* learning_;
     bool records_;                        ///< --splitting ears: whether continuations are reported (not in the last epoch)
+    bool resting_ = false;                ///< --splitting ears: EARS rests (setResting)
     bool firstHitRecords_;                ///< and the first hit's (FirstHit, FirstHitVertex) among them
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding
     std::vector<std::uint8_t> textured_;  ///< per material: whether it has any texture (one byte to test on the hot path)

@@ -181,7 +181,9 @@ private:
 /// Whether a render's continuations are recorded in the state's epoch: not in the last epoch of the render
 /// (the one that reaches its spp), which has no epoch after it to learn from them (the same in every run of
 /// this spp, resumed or not).
-bool recordsEpoch(const RenderState& state) { return state.ears && !ears::lastEpoch(state.ears->epoch, state.sppBound); }
+bool recordsEpoch(const RenderState& state) {
+    return state.ears && !state.ears->resting && !ears::lastEpoch(state.ears->epoch, state.sppBound);
+}
 
 /// Whether the epoch records the first hit's continuations too: not after epoch 0 of a probed render,
 /// whose first-hit factors hold from then on (ears::Learning::advance); the deeper vertices' scale is then
@@ -194,6 +196,7 @@ void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSe
                   std::atomic<std::uint64_t>* progress) {
     const CostClock clock(state);
     tracer.setRecords(recordsEpoch(state), recordsFirstHit(state));
+    tracer.setResting(state.ears && state.ears->resting);
     const bool learns = learnsFactors(settings.trace.splitting);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
@@ -324,18 +327,23 @@ void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSetti
     learning.learnFromProbe(probed ? v / static_cast<double>(probed) : 0.0, probeRays, probed * ears::kProbeSamples);
     state.rays += probeRays, state.paths += probePaths;
     learning.raysAtStart = state.rays;
+    learning.pathsAtStart = state.paths;
 }
 
 }  // namespace
 
-bool endEpochIfDone(RenderState& state) {
-    // The render's last epoch (it reaches the spp) has no successor to learn for.
-    if (!state.ears || ears::lastEpoch(state.ears->epoch, state.sppBound) ||
+bool earsMayRest(const Estimator& estimator, const RenderSettings& settings) {
+    return traceSettings(estimator, settings).earsRouletteFloor;
+}
+
+bool endEpochIfDone(RenderState& state, bool mayRest) {
+    // The render's last epoch (it reaches the spp) has no successor to learn for; a resting EARS learns no more.
+    if (!state.ears || state.ears->resting || ears::lastEpoch(state.ears->epoch, state.sppBound) ||
         state.samplesReached() < ears::epochEnd(ears::epochStart(state.ears->epoch)))
         return false;
     // Learning is part of the render's cost: its time counts (the study's CPU-time cost reads it).
     const CostClock clock(state);
-    state.ears->advance(state.variancePerSample(), state.rays, state.samples);
+    state.ears->advance(state.variancePerSample(), state.rays, state.samples, state.paths, mayRest);
     return true;
 }
 
@@ -358,8 +366,11 @@ void renderSamples(PathTracer& tracer, const Estimator& estimator, const RenderS
     if (upTo <= state.samplesReached()) return;
     if (probeDue(settings, state)) probeWith(tracer, estimator, settings, state);
     for (std::uint32_t reached = state.samplesReached(); reached < upTo; reached = state.samplesReached()) {
-        traceSegment(tracer, estimator, settings, state, std::min(upTo, ears::epochEnd(reached)), progress);
-        endEpochIfDone(state);
+        // A resting EARS learns nothing more: the rest of the render is one segment (no wait for the last tile
+        // at each epoch's end).
+        traceSegment(tracer, estimator, settings, state, state.ears && state.ears->resting ? upTo : std::min(upTo, ears::epochEnd(reached)),
+                     progress);
+        endEpochIfDone(state, earsMayRest(estimator, settings));
         if (settings.cancel && settings.cancel->load()) return;
     }
 }

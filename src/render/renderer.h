@@ -157,8 +157,13 @@ void probeLearning(const Scene& scene, const Accel& accel, const Estimator& esti
 
 /// --splitting ears: when every tile has finished the state's epoch, learns the next epoch's factors
 /// (from the epoch's sums, the rays and samples since it began and the image's variance per sample) and
-/// returns true.
-bool endEpochIfDone(RenderState& state);
+/// returns true. `mayRest` (earsMayRest): an epoch that split nothing lets EARS rest for the rest of the
+/// render (ears::kRestBelowExtraPaths). False, and nothing learned, once it rests.
+bool endEpochIfDone(RenderState& state, bool mayRest = false);
+/// Whether a render's EARS may rest: its roulette is floored at plain roulette's (TraceSettings::
+/// earsRouletteFloor: a low-discrepancy sampler), so that factors that split nothing differ from plain
+/// roulette only by keeping a few more paths (under the independent sampler their roulette may be harder).
+bool earsMayRest(const Estimator& estimator, const RenderSettings& settings);
 
 /// The image, variance and statistics of a state (the sampler's name recorded as given).
 RenderResult resultOf(const RenderState& state, const std::string& sampler);

@@ -62,9 +62,15 @@ void Learning::add(const std::vector<Record>& records) {
     }
 }
 
-void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples) {
+void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples, std::uint64_t paths, bool mayRest) {
     EpochMeasure m;
     m.cameraSamples = static_cast<double>(samples - std::min(samples, samplesAtStart));
+    // Rest when this epoch's vertices split (nearly) nothing: its extra paths, those beyond one per camera sample.
+    if (mayRest && epoch >= kRestFromEpoch && paths != kUnknownPaths && pathsAtStart != kUnknownPaths && paths >= pathsAtStart &&
+        m.cameraSamples > 0) {
+        const double extra = static_cast<double>(paths - pathsAtStart) - m.cameraSamples;
+        resting = extra < kRestBelowExtraPaths * m.cameraSamples;
+    }
     m.costPerSample = m.cameraSamples > 0 ? static_cast<double>(rays - raysAtStart) / m.cameraSamples : 0;
     m.variancePerSample = epoch == 0 ? variancePerSample : std::max(2 * variancePerSample - varianceAtStart, 0.25 * variancePerSample);
     propagateToCoarserCells(sums_, occupied_);
@@ -90,6 +96,7 @@ void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64
     ++epoch;
     raysAtStart = rays;
     samplesAtStart = samples;
+    pathsAtStart = paths;
 }
 
 void Learning::learnFromProbe(double variancePerSample, std::uint64_t rays, std::uint64_t samples) {

@@ -55,6 +55,18 @@ inline bool lastEpoch(int epoch, std::uint32_t spp) { return epochEnd(epochStart
 /// vertices learn on from epoch to epoch. Renders of fewer than kProbeMinSpp samples a pixel have no probe
 /// (it would cost them too large a share): their epoch 0 renders unlearned, every later one as above.
 inline constexpr std::uint32_t kProbeSamples = 2;
+/// EARS rests (Learning::resting) after an epoch from kRestFromEpoch on whose vertices took fewer than this
+/// many continuations beyond one per vertex (the render's extra paths), per camera sample: its learned
+/// factors split nothing there, and under a roulette floor (TraceSettings::earsRouletteFloor: roulette
+/// never harder than plain) they are then nearly the floor itself, while looking them up and recording
+/// every continuation cost the render 8%-11% of its time (the sun and diffuse scenes of the study). A
+/// resting render's vertices take the floor (PathTracer::restingFactor) and nothing is looked up, recorded
+/// or learned (docs/estimators.md "When EARS rests").
+inline constexpr double kRestBelowExtraPaths = 0.01;
+/// The first epoch that can decide it: epoch 0's deeper vertices are unlearned, epoch 1's factors come from 2 spp.
+inline constexpr int kRestFromEpoch = 2;
+/// Learning::pathsAtStart of a checkpoint written before it was kept: that epoch cannot decide to rest.
+inline constexpr std::uint64_t kUnknownPaths = ~std::uint64_t{0};
 inline constexpr std::uint32_t kProbeMinSpp = 8;
 inline constexpr std::uint64_t kProbeSeed = 0x70726f6265ull;
 
@@ -65,6 +77,10 @@ struct Learning {
     Factors factors;                 ///< its factors (none in epoch 0, or when the image had no variance)
     std::uint64_t raysAtStart = 0;   ///< the render's rays when the epoch began
     std::uint64_t samplesAtStart = 0;  ///< and its camera samples
+    std::uint64_t pathsAtStart = 0;    ///< and its paths (kUnknownPaths: not known)
+    /// EARS rests for the rest of the render (kRestBelowExtraPaths): its vertices take one continuation and
+    /// roulette by throughput, no factor is looked up, nothing is recorded and nothing learned.
+    bool resting = false;
     double varianceAtStart = 0;      ///< and the image's variance per camera sample over all samples before it
 
     Learning() = default;
@@ -91,7 +107,10 @@ struct Learning {
     /// render's rays and samples now) and its variance per camera sample, from the image's over all
     /// samples now (`variancePerSample`) and at the epoch's start: an epoch after the first has as many
     /// samples as all before it, so its variance is about 2 V_now - V_start.
-    void advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples);
+    /// `paths` (the render's paths now) and `mayRest` (its roulette is floored at plain roulette's) decide
+    /// whether EARS rests from now on (kRestBelowExtraPaths).
+    void advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples, std::uint64_t paths = kUnknownPaths,
+                 bool mayRest = false);
     /// Ends the probe: epoch 0's first-hit factors from its sums, `rays` over its `samples` camera samples
     /// and the variance per camera sample of its pixels (deeper vertices stay unlearned); the sums start
     /// empty for epoch 0, the epoch stays 0.

@@ -107,6 +107,13 @@ ears)
     grep -q "$np ranks" "$work/out" || fail "summary: $(cat "$work/out")"
     cmp "$work/single.exr" "$work/mpi.exr" || fail "$np ranks ${passes:-(one pass)}: the EXR differs from the single-process one"
   done
+  # The sun scene's EARS rests after its third epoch (splitting/learning.h kRestBelowExtraPaths): rank 0's
+  # decision reaches every rank, and the rest of the render is one segment.
+  sun=(render "$(dirname "$0")/../../scenes/regime/sun-n10.json" --spp 32 -W 64 -H 48 --seed 5 -t 1 --splitting ears)
+  "$bin" "${sun[@]}" -o "$work/single.exr" >/dev/null
+  "${launch[@]}" -np "$np" "$bin" "${sun[@]}" --pass-spp 3 -o "$work/mpi.exr" >"$work/out" 2>"$work/err" ||
+    fail "mpiexec -np $np on the sun scene failed: $(cat "$work/err")"
+  cmp "$work/single.exr" "$work/mpi.exr" || fail "$np ranks on the sun scene (EARS rests): the EXR differs from the single-process one"
   long=(render cornell --spp 400 -W 64 -H 48 --seed 5 -t 1 --splitting ears --pass-spp 2 --checkpoint "$work/c.ckpt")
   "$bin" "${long[@]}" -o "$work/single.exr" >/dev/null
   rm -f "$work/c.ckpt"
