@@ -362,7 +362,8 @@ def ears_checkpoint():
             (32, 0, 0.0, 0.0)]
     fixed = lambda x: int(x * (1 << 40))
     ears = {"epoch": 2, "probed": True, "lo": [-1.0, -1.0, -1.0], "hi": [1.0, 1.0, 1.0], "scale": 3.0,
-            "has_factors": True, "rays_at_start": 1000, "samples_at_start": 24, "variance_at_start": 0.3,
+            "has_factors": True, "rays_at_start": 1000, "samples_at_start": 24, "paths_at_start": 30,
+            "resting": False, "variance_at_start": 0.3,
             "factor_cells": len(factor_cells), "factor_values": 4, "sum_cells": len(sum_cells)}
     base = checkpoint(4, 3, 8, 4, extra={"ears": ears})
     body = base[:-8]
