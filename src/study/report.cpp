@@ -173,7 +173,8 @@ std::string referenceNoiseWords(const std::vector<StudySummary>& summary, const 
         "removed from every MSE; what is left of it, one error shared by every render (standard deviation {:.3g}, {:.1f}% of that "
         "MSE), no number of repeats averages away, and the efficiency intervals by MSE include it.{}\n\n",
         warn ? "**Warning:** the" : "The", reference.noise, least->variant, least->spp, least->mse, reference.noiseSd,
-        100 * reference.noiseSd / least->mse, warn ? " Raise --reference-spp." : "");
+        100 * reference.noiseSd / least->mse,
+        warn ? " Raise --reference-spp, or render the reference with --reference-splitting ears where EARS splits." : "");
 }
 
 std::string reportMarkdown(const ReportInputs& in) {

@@ -127,7 +127,7 @@ struct ReportInputs {
 
 /// The report's words on the reference's own noise where it is at least half of the least MSE of `summary`:
 /// how much of it each MSE still shares after its removal (Reference::noiseSd), which the efficiency
-/// intervals include, as a warning to raise --reference-spp above a tenth of that MSE; "" otherwise.
+/// intervals include, as a warning to raise --reference-spp (or split the reference) above a tenth of that MSE; "" otherwise.
 std::string referenceNoiseWords(const std::vector<StudySummary>& summary, const Reference& reference);
 /// report.md: the answer (study/answer.h) and one table per measure.
 std::string reportMarkdown(const ReportInputs& in);
