@@ -553,6 +553,45 @@ TEST(EarsRender, AfterEpochZeroOfAProbedRenderTheFirstHitGoesUnrecorded) {
     }
 }
 
+// The tracer's two switches of records act apart: the deeper vertices' records (Deeper) and the first hit's
+// (FirstHit, FirstHitVertex, BrdfHit). The probe takes the first hit's alone (its deeper factors are never
+// kept: Learning::learnFromProbe); an epoch after epoch 0 of a probed render the deeper ones alone. Records
+// change no sample: the four settings trace the same radiances bit for bit.
+TEST(EarsRender, TheFirstHitsAndTheDeeperVerticesRecordsAreSwitchedApart) {
+    const Scene scene = test::makeFurnaceSphere(1.0, 0.5);
+    const Accel accel(scene);
+    const auto est = makeEstimator("phong");
+    const RenderSettings rs = earsSettings(8, 8, 16, 29);
+    RenderState state(8, 8, 16);
+    const std::unique_ptr<PathTracer> tracer = makeTracer(scene, accel, *est, rs, state);
+    const auto sampler = makeSampler("sobol", 16, 29);
+    const CameraRays cameraRays(scene.camera, 8, 8);
+    std::vector<Color> first;
+    for (const auto& [deeper, firstHit] : {std::pair{true, true}, {false, true}, {true, false}, {false, false}}) {
+        tracer->setRecords(deeper, firstHit);
+        PathScratch scratch;
+        TraceStats stats;
+        std::vector<Color> radiances;
+        for (std::uint32_t i = 0; i < 16; ++i) {
+            SampleStream samples(*sampler, 27, i, SampleDimensions::kPixel);
+            const Point2 jitter = samples.get2D();
+            Vec3 o, d;
+            cameraRays(3 + jitter.u, 3 + jitter.v, o, d);
+            radiances.push_back(tracer->cameraRadiance(o, d, samples, stats, scratch));
+        }
+        std::array<std::size_t, ears::kSections> bySection{};
+        for (const ears::Record& r : scratch.splitRecords) ++bySection[r.slot / ears::Grid::cellCount()];
+        const std::string what = fmt::format("deeper {}, first hit {}", deeper, firstHit);
+        EXPECT_EQ(bySection[static_cast<std::size_t>(ears::Section::Deeper)] > 0, deeper) << what;
+        EXPECT_EQ(bySection[static_cast<std::size_t>(ears::Section::FirstHit)] > 0, firstHit) << what;
+        EXPECT_EQ(bySection[static_cast<std::size_t>(ears::Section::FirstHitVertex)] > 0, firstHit) << what;
+        if (first.empty()) first = radiances;
+        for (std::size_t i = 0; i < radiances.size(); ++i)
+            EXPECT_TRUE(radiances[i].x == first[i].x && radiances[i].y == first[i].y && radiances[i].z == first[i].z)
+                << what << ", sample " << i;
+    }
+}
+
 // Learning is part of a render's cost: the end of an epoch (the image's variance, the sums carried up,
 // learnFactors) counts in the state's wall and CPU time, which the study's cost reads. A state whose epoch
 // 0 is rendered gains time from endEpochIfDone alone (and one whose epoch is not done gains none).

@@ -40,17 +40,45 @@ TEST(EarsRest, AnEpochThatSplitNothingRests) {
         l.advance(0.5, 50000, 10400, (pathsAtStart == ears::kUnknownPaths ? 500 : pathsAtStart) + 10000 + extra, mayRest);
         return l.resting;
     };
-    EXPECT_TRUE(epochEnd(2, 0, true));
+    EXPECT_TRUE(epochEnd(1, 0, true));
+    EXPECT_TRUE(epochEnd(1, 99, true));
+    EXPECT_FALSE(epochEnd(1, 100, true));
     EXPECT_TRUE(epochEnd(2, 99, true));
-    EXPECT_FALSE(epochEnd(2, 100, true));
     EXPECT_TRUE(epochEnd(5, 40, true));
-    EXPECT_FALSE(epochEnd(1, 0, true)) << "epoch 1's factors come from 2 spp";
-    EXPECT_FALSE(epochEnd(2, 0, false)) << "no roulette floor: no rest";
-    EXPECT_FALSE(epochEnd(2, 0, true, ears::kUnknownPaths));
+    EXPECT_FALSE(epochEnd(0, 0, true)) << "epoch 0's deeper vertices are unlearned";
+    EXPECT_FALSE(epochEnd(1, 0, false)) << "no roulette floor: no rest";
+    EXPECT_FALSE(epochEnd(1, 0, true, ears::kUnknownPaths));
+}
+
+// The epoch that decides to rest learns nothing: its factors stay the ones it rendered with (an epoch that
+// does not rest replaces them by what its records say), its sums are emptied, and the next epoch begins.
+TEST(EarsRest, TheEpochThatRestsLearnsNothing) {
+    const auto epochEnd = [](bool rests) {
+        ears::Learning l(ears::Grid(Vec3(0.0), Vec3(1.0)));
+        l.epoch = 1, l.samplesAtStart = 400, l.pathsAtStart = 500, l.raysAtStart = 1000;
+        l.factors.reset(ears::Grid::cellCount());
+        std::fill(l.factors.firstHit.begin(), l.factors.firstHit.end(), 4.0f);
+        l.add(ears::Record(static_cast<std::uint32_t>(l.grid.cell(Vec3(0.5), ears::Grid::kLevels - 1)), 2.0, 3, ears::Section::Deeper));
+        l.advance(0.5, 50000, 10400, 500 + 10000 + (rests ? 0 : 5000), true);
+        EXPECT_EQ(l.resting, rests);
+        EXPECT_EQ(l.epoch, 2);
+        EXPECT_EQ(l.pathsAtStart, rests ? 10500u : 15500u);
+        EXPECT_EQ(l.samplesAtStart, 10400u);
+        std::size_t occupied = 0;
+        l.occupied().forEach(0, l.occupied().capacity(), [&](std::size_t) { ++occupied; });
+        EXPECT_EQ(occupied, 0u);
+        return l.factors;
+    };
+    const ears::Factors kept = epochEnd(true);
+    ASSERT_EQ(kept.firstHit.size(), ears::Grid::cellCount());
+    EXPECT_TRUE(std::all_of(kept.firstHit.begin(), kept.firstHit.end(), [](float f) { return f == 4.0f; }));
+    const ears::Factors learned = epochEnd(false);
+    EXPECT_FALSE(!learned.firstHit.empty() &&
+                 std::all_of(learned.firstHit.begin(), learned.firstHit.end(), [](float f) { return f == 4.0f; }));
 }
 
 // Which scenes rest, at the study's size and spp under sobol: the sun (whose first hits and deeper vertices
-// EARS splits nowhere) and the diffuse box rest, by the end of epoch 2; the smooth sky, whose first hits it
+// EARS splits nowhere) and the diffuse box rest, by the end of epoch 1; the smooth sky, whose first hits it
 // splits everywhere, does not. Resting, the render records nothing more and its epoch stops.
 TEST(EarsRest, TheSunRestsAndTheSmoothSkyDoesNot) {
     const auto est = makeEstimator("phong");

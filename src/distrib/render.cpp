@@ -348,7 +348,7 @@ void renderSamplesDistributed(const MpiJob& job, const Scene& scene, const Accel
         if (job.root()) {
             const std::uint32_t reached = state.samplesReached(), bound = std::min(upTo, state.sppBound);
             if (reached < bound && !(settings.cancel && settings.cancel->load()))
-                end = state.ears && state.ears->resting ? bound : std::min(bound, ears::epochEnd(reached));
+                end = state.earsResting() ? bound : std::min(bound, ears::epochEnd(reached));
         }
         MPI_Bcast(&end, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
         if (end == 0) return;

@@ -154,10 +154,11 @@ public:
                          PathScratch& scratch) const;
 
     const Scene& scene() const { return scene_; }
-    /// --splitting ears: whether continuations are reported from now on (a tracer kept from epoch to epoch:
-    /// off in the render's last), and among them the first hit's (`firstHit`: off once its factors hold for
-    /// good, splitting/learning.h kProbeSamples). Not while a render uses the tracer.
-    void setRecords(bool records, bool firstHit) { records_ = records, firstHitRecords_ = records && firstHit; }
+    /// --splitting ears: whether continuations are reported from now on: the deeper vertices' (a tracer kept
+    /// from epoch to epoch: off in the render's last; off in the probe, whose deeper factors are never used)
+    /// and the first hit's (off once its factors hold for good, splitting/learning.h kProbeSamples). Not while
+    /// a render uses the tracer.
+    void setRecords(bool deeper, bool firstHit) { records_ = deeper, firstHitRecords_ = firstHit; }
     /// --splitting ears: whether EARS rests (ears::Learning::resting): no vertex then looks up or records a
     /// factor; each takes one continuation, with roulette by its throughput from the roulette depth on
     /// (restingFactor: what learned factors that split nothing floor to). Not while a render uses the tracer.
@@ -260,7 +261,7 @@ private:
     const Estimator& estimator_;
     TraceSettings settings_;
     const ears::Learning* learning_;
-    bool records_;                        ///< --splitting ears: whether continuations are reported (not in the last epoch)
+    bool records_;                        ///< --splitting ears: whether deeper vertices' continuations are reported
     bool resting_ = false;                ///< --splitting ears: EARS rests (setResting)
     bool firstHitRecords_;                ///< and the first hit's (FirstHit, FirstHitVertex) among them
     std::vector<Vec3> geometricNormals_;  ///< unit, counter-clockwise winding

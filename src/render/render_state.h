@@ -51,6 +51,8 @@ struct RenderState {
     /// The fewest samples any tile has; every tile has reached it.
     std::uint32_t samplesReached() const;
     bool finished() const { return samplesReached() >= sppBound; }
+    /// --splitting ears rests (ears::Learning::resting): nothing more is looked up, recorded or learned.
+    bool earsResting() const { return ears && ears->resting; }
 
     /// The mean image and the variance of each pixel's mean (zero where a pixel has fewer than 2
     /// samples), each pixel over its own tile's count.

@@ -182,7 +182,7 @@ private:
 /// (the one that reaches its spp), which has no epoch after it to learn from them (the same in every run of
 /// this spp, resumed or not).
 bool recordsEpoch(const RenderState& state) {
-    return state.ears && !state.ears->resting && !ears::lastEpoch(state.ears->epoch, state.sppBound);
+    return state.ears && !state.earsResting() && !ears::lastEpoch(state.ears->epoch, state.sppBound);
 }
 
 /// Whether the epoch records the first hit's continuations too: not after epoch 0 of a probed render,
@@ -196,7 +196,7 @@ void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSe
                   std::atomic<std::uint64_t>* progress) {
     const CostClock clock(state);
     tracer.setRecords(recordsEpoch(state), recordsFirstHit(state));
-    tracer.setResting(state.ears && state.ears->resting);
+    tracer.setResting(state.earsResting());
     const bool learns = learnsFactors(settings.trace.splitting);
     const auto sampler = makeSampler(effectiveSampler(estimator, settings.sampler), state.sppBound, settings.seed);
     upTo = std::min(upTo, state.sppBound);
@@ -280,7 +280,9 @@ namespace {
 
 void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSettings& settings, RenderState& state) {
     const CostClock clock(state);
-    tracer.setRecords(true, true);
+    // The first hit's records alone: Learning::learnFromProbe keeps no deeper factor (the same factors as
+    // with the deeper vertices recorded, bit for bit; they cost the probe a record each).
+    tracer.setRecords(false, true);
     ears::Learning& learning = *state.ears;
     const Scene& scene = tracer.scene();
     const auto sampler =
@@ -295,10 +297,11 @@ void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSetti
     RenderSettings all = settings;
     all.tiles = nullptr;  // every tile, on this process's threads
     const auto cancelled = [&] { return settings.cancel && settings.cancel->load(std::memory_order_relaxed); };
+    tbb::enumerable_thread_specific<PathScratch> scratches;  // one a thread, as traceSegment's
     forEachTile(all, [&](int tile) {
         if (cancelled()) return;
         TraceStats stats;
-        PathScratch scratch;
+        PathScratch& scratch = scratches.local();
         const auto t = static_cast<std::size_t>(tile);
         forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) {
             if (x % 2 != 0 || y % 2 != 0) return;
@@ -315,6 +318,7 @@ void probeWith(PathTracer& tracer, const Estimator& estimator, const RenderSetti
         rays[t] = stats.rays, paths[t] = pixels[t] * ears::kProbeSamples + stats.extraPaths;
         std::lock_guard<std::mutex> lock(learnMutex);
         learning.add(scratch.splitRecords);
+        scratch.splitRecords.clear();
     });
     if (cancelled()) {
         // Stopped part way: nothing learned (a resumed render probes again, the same way).
@@ -338,7 +342,7 @@ bool earsMayRest(const Estimator& estimator, const RenderSettings& settings) {
 
 bool endEpochIfDone(RenderState& state, bool mayRest) {
     // The render's last epoch (it reaches the spp) has no successor to learn for; a resting EARS learns no more.
-    if (!state.ears || state.ears->resting || ears::lastEpoch(state.ears->epoch, state.sppBound) ||
+    if (!state.ears || state.earsResting() || ears::lastEpoch(state.ears->epoch, state.sppBound) ||
         state.samplesReached() < ears::epochEnd(ears::epochStart(state.ears->epoch)))
         return false;
     // Learning is part of the render's cost: its time counts (the study's CPU-time cost reads it).
@@ -368,8 +372,7 @@ void renderSamples(PathTracer& tracer, const Estimator& estimator, const RenderS
     for (std::uint32_t reached = state.samplesReached(); reached < upTo; reached = state.samplesReached()) {
         // A resting EARS learns nothing more: the rest of the render is one segment (no wait for the last tile
         // at each epoch's end).
-        traceSegment(tracer, estimator, settings, state, state.ears && state.ears->resting ? upTo : std::min(upTo, ears::epochEnd(reached)),
-                     progress);
+        traceSegment(tracer, estimator, settings, state, state.earsResting() ? upTo : std::min(upTo, ears::epochEnd(reached)), progress);
         endEpochIfDone(state, earsMayRest(estimator, settings));
         if (settings.cancel && settings.cancel->load()) return;
     }

@@ -71,6 +71,13 @@ void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64
         const double extra = static_cast<double>(paths - pathsAtStart) - m.cameraSamples;
         resting = extra < kRestBelowExtraPaths * m.cameraSamples;
     }
+    if (resting) {
+        // Nothing more is learned: the epoch's factors would never be used. Its sums go (a checkpoint from
+        // now on carries none); the epoch and its start still move on, as at every epoch's end.
+        clearSums();
+        startEpoch(variancePerSample, rays, samples, paths);
+        return;
+    }
     m.costPerSample = m.cameraSamples > 0 ? static_cast<double>(rays - raysAtStart) / m.cameraSamples : 0;
     m.variancePerSample = epoch == 0 ? variancePerSample : std::max(2 * variancePerSample - varianceAtStart, 0.25 * variancePerSample);
     propagateToCoarserCells(sums_, occupied_);
@@ -92,6 +99,10 @@ void Learning::advance(double variancePerSample, std::uint64_t rays, std::uint64
     spare_ = std::move(factors);
     factors = std::move(next);
     clearSums();
+    startEpoch(variancePerSample, rays, samples, paths);
+}
+
+void Learning::startEpoch(double variancePerSample, std::uint64_t rays, std::uint64_t samples, std::uint64_t paths) {
     varianceAtStart = variancePerSample;
     ++epoch;
     raysAtStart = rays;

@@ -63,8 +63,10 @@ inline constexpr std::uint32_t kProbeSamples = 2;
 /// resting render's vertices take the floor (PathTracer::restingFactor) and nothing is looked up, recorded
 /// or learned (docs/estimators.md "When EARS rests").
 inline constexpr double kRestBelowExtraPaths = 0.01;
-/// The first epoch that can decide it: epoch 0's deeper vertices are unlearned, epoch 1's factors come from 2 spp.
-inline constexpr int kRestFromEpoch = 2;
+/// The first epoch that can decide it: epoch 0's deeper vertices are unlearned. Epoch 1 (factors from epoch
+/// 0's 2 spp) separates the scenes as cleanly as later epochs do (docs/performance.md "EARS rests after epoch
+/// 1"), and deciding there keeps 4 more samples of 64 off the learning path.
+inline constexpr int kRestFromEpoch = 1;
 /// Learning::pathsAtStart of a checkpoint written before it was kept: that epoch cannot decide to rest.
 inline constexpr std::uint64_t kUnknownPaths = ~std::uint64_t{0};
 inline constexpr std::uint32_t kProbeMinSpp = 8;
@@ -108,7 +110,8 @@ struct Learning {
     /// samples now (`variancePerSample`) and at the epoch's start: an epoch after the first has as many
     /// samples as all before it, so its variance is about 2 V_now - V_start.
     /// `paths` (the render's paths now) and `mayRest` (its roulette is floored at plain roulette's) decide
-    /// whether EARS rests from now on (kRestBelowExtraPaths).
+    /// whether EARS rests from now on (kRestBelowExtraPaths); an epoch that decides it learns nothing (its
+    /// factors stay the ones it rendered with, its sums are emptied).
     void advance(double variancePerSample, std::uint64_t rays, std::uint64_t samples, std::uint64_t paths = kUnknownPaths,
                  bool mayRest = false);
     /// Ends the probe: epoch 0's first-hit factors from its sums, `rays` over its `samples` camera samples
@@ -122,6 +125,9 @@ struct Learning {
     std::size_t bytes() const;
 
 private:
+    /// The next epoch begins: `epoch` up by one, its start's variance, rays, samples and paths.
+    void startEpoch(double variancePerSample, std::uint64_t rays, std::uint64_t samples, std::uint64_t paths);
+
     SumTable sums_;
     CellSet occupied_;  ///< the cells of sums_ that hold records: all an epoch's end visits
     Factors spare_;     ///< the factors before the current ones: the next epoch's end refills their buffers
