@@ -59,6 +59,26 @@ TEST(TextureLookup, BilinearWithEveryWrapModeMatchesAnExplicitPlaneOfTiles) {
         }
 }
 
+// The nearest texel against the same plane: the texel under (u, v) there, for every wrap mode.
+TEST(TextureLookup, NearestTexelWithEveryWrapModeIsThePlanesTexel) {
+    Rng rng(43, 2);
+    std::vector<float> img(kW * kH);
+    for (float& t : img) t = static_cast<float>(rng.uniform());
+    for (WrapMode mu : {WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror})
+        for (WrapMode mv : {WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror}) {
+            Texture tex("t", kW, kH, 1, img);
+            tex.wrapU = mu, tex.wrapV = mv;
+            for (int i = 0; i < 2000; ++i) {
+                const double u = -2.5 + 6 * rng.uniform(), v = -2.5 + 6 * rng.uniform();
+                int x = -1, y = -1;
+                tex.nearestTexel(u, v, x, y);
+                const int px = static_cast<int>(std::floor(u * kW)), py = static_cast<int>(std::floor((1 - v) * kH));
+                ASSERT_EQ(tex.texelRgb(x, y).x, planeTexel(img, px, py, mu, mv))
+                    << wrapModeName(mu) << "/" << wrapModeName(mv) << " at (" << u << ", " << v << ")";
+            }
+        }
+}
+
 TEST(TextureLookup, SrgbCurveIsTheStandardsFormula) {
     for (int i = 0; i <= 255; ++i) {
         const double c = i / 255.0;

@@ -26,6 +26,11 @@ public:
     }
     double pdfOfHit(const Vec3& d, double, double pick) const override { return pick * map_.pdf(d); }
     Color backgroundRadiance(const Vec3& d) const override { return map_.radiance(d); }
+    Color backgroundRadianceAndPdf(const Vec3& d, double pick, double& pdf) const override {
+        const Color L = map_.radianceAndPdf(d, pdf);
+        pdf *= pick;
+        return L;
+    }
     std::string describe() const override {
         return fmt::format("HDR map {} ({} x {}), scale {:.6g}, rotation {:.4g} degrees, {} filtering; integral of Y(L) dw = {:.6g}",
                            map_.image().name(), map_.image().width(), map_.image().height(), map_.scale(), map_.rotationDegrees(),

@@ -62,6 +62,12 @@ public:
     virtual double pdfOfHit(const Vec3& d, double t, double pick) const = 0;
     /// Radiance arriving along unit direction d from a background; 0 for the others.
     virtual Color backgroundRadiance(const Vec3&) const { return Color(0.0); }
+    /// backgroundRadiance(d) and pdfOfHit(d, infinity, pick) (as `pdf`) together, for a path that left the
+    /// scene along unit d: one lookup where the two share their work (an environment map's mapping of d).
+    virtual Color backgroundRadianceAndPdf(const Vec3& d, double pick, double& pdf) const {
+        pdf = pdfOfHit(d, std::numeric_limits<double>::infinity(), pick);
+        return backgroundRadiance(d);
+    }
     /// One line for `symphong info` and the Python Scene: what it is, with its parameters.
     virtual std::string describe() const = 0;
 };

@@ -397,12 +397,13 @@ DirectLight PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& 
 Color PathTracer::escaped(const Vec3& d, int depth, double prevMisPdf, Color& emitted) const {
     const Vec3 dir = normalize(d);
     const Emitter& background = emitters_.background();
-    double w = 1.0;
-    if (depth > 0 && environmentSampling_)
-        w = powerHeuristic(prevMisPdf,
-                           background.pdfOfHit(dir, std::numeric_limits<double>::infinity(), emitters_.backgroundProbability()));
-    emitted = background.backgroundRadiance(dir);
-    return emitted * w;
+    if (!(depth > 0 && environmentSampling_)) {
+        emitted = background.backgroundRadiance(dir);
+        return emitted;
+    }
+    double pdf = 0;
+    emitted = background.backgroundRadianceAndPdf(dir, emitters_.backgroundProbability(), pdf);
+    return emitted * powerHeuristic(prevMisPdf, pdf);
 }
 
 }  // namespace symphong

@@ -67,6 +67,10 @@ Vec3 EnvironmentMap::fromImage(double u, double t) const {
 Color EnvironmentMap::radiance(const Vec3& d) const {
     double u, t;
     toImage(d, u, t);
+    return radianceAt(u, t);
+}
+
+Color EnvironmentMap::radianceAt(double u, double t) const {
     if (filter_ == Filter::Bilinear) return image_.rgb(u, 1.0 - t) * scale_;
     int x, y;
     image_.nearestTexel(u, 1.0 - t, x, y);
@@ -90,6 +94,17 @@ double EnvironmentMap::pdf(const Vec3& d) const {
     if (!(distribution_.total() > 0)) return 0;
     double u, t;
     toImage(d, u, t);
+    return pdfAt(u, t);
+}
+
+Color EnvironmentMap::radianceAndPdf(const Vec3& d, double& pdf) const {
+    double u, t;
+    toImage(d, u, t);
+    pdf = distribution_.total() > 0 ? pdfAt(u, t) : 0.0;
+    return radianceAt(u, t);
+}
+
+double EnvironmentMap::pdfAt(double u, double t) const {
     const double sinTheta = std::sin(kPi * t);
     if (!(sinTheta > 0)) return 0;
     int x, y;

@@ -31,6 +31,9 @@ public:
     Vec3 sample(Point2 u, double& pdf) const;
     /// Solid-angle density of sample() for unit direction d.
     double pdf(const Vec3& d) const;
+    /// radiance(d) and pdf(d) (as `pdf`) from one mapping of d onto the image (an acos and an atan2, the
+    /// dearest part of either): the same values bit for bit.
+    Color radianceAndPdf(const Vec3& d, double& pdf) const;
     /// Integral of the luminance of the radiance over the sphere, integral Y(L) dw (for choosing it
     /// among the scene's emitters in proportion to its power).
     double luminanceIntegral() const { return luminanceIntegral_; }
@@ -47,6 +50,10 @@ public:
     Vec3 fromImage(double u, double t) const;
 
 private:
+    /// radiance and pdf at image coordinates (u, t) of toImage (pdfAt: the distribution not empty).
+    Color radianceAt(double u, double t) const;
+    double pdfAt(double u, double t) const;
+
     Texture image_;
     double scale_ = 1, rotation_ = 0;
     Filter filter_ = Filter::Nearest;
