@@ -3,15 +3,14 @@
 // chi-square test against it; a map of constant value renders the same image as the constant
 // environment with every estimator (light sampling + MIS against each); a map black but for one texel
 // lights a plane with the irradiance of that texel's solid angle; a rotated map is seen and sampled where
-// the documented formula puts each texel, in proportion to its luminance; JSON errors; the branchless search
-// of its CDFs gives std::upper_bound's index.
+// the documented formula puts each texel, in proportion to its luminance; JSON errors; radiance and density
+// looked up together are each looked up alone.
 #include "stats.h"
 #include "test_util.h"
 
 #include "compare/metrics.h"
 #include "io/image.h"
 #include "io/input_error.h"
-#include "sampling/distribution2d.h"
 #include "sampling/warp.h"
 #include "scene/environment_map.h"
 
@@ -19,8 +18,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <random>
 #include <utility>
 
 using namespace symphong;
@@ -68,40 +65,6 @@ Scene floorWithBlock() {
 }
 
 }  // namespace
-
-// The distribution's search against std::upper_bound itself, on CDF-like arrays of every length from 1 to
-// 70 (0 first, 1 last, runs of equal values where weights are 0): every entry exactly, just below and above
-// it, midpoints, values outside, infinities and NaN.
-TEST(Distribution2D, UpperBoundIsStdUpperBound) {
-    std::mt19937_64 rng(41);
-    std::uniform_real_distribution<double> uniform(0.0, 1.0);
-    std::size_t checked = 0;
-    for (std::size_t count = 1; count <= 70; ++count)
-        for (int trial = 0; trial < 20; ++trial) {
-            std::vector<double> a(count);
-            for (double& v : a) v = uniform(rng) < 0.3 ? 0.5 : uniform(rng);  // duplicates too
-            std::sort(a.begin(), a.end());
-            if (trial % 2 == 0) a.front() = 0.0, a.back() = 1.0;
-            std::vector<double> us = {-1.0,
-                                      2.0,
-                                      std::numeric_limits<double>::infinity(),
-                                      -std::numeric_limits<double>::infinity(),
-                                      std::numeric_limits<double>::quiet_NaN(),
-                                      uniform(rng)};
-            for (std::size_t i = 0; i < count; ++i) {
-                us.push_back(a[i]);
-                us.push_back(std::nextafter(a[i], -1.0));
-                us.push_back(std::nextafter(a[i], 2.0));
-                if (i + 1 < count) us.push_back(0.5 * (a[i] + a[i + 1]));
-            }
-            for (const double u : us) {
-                const auto expected = static_cast<std::size_t>(std::upper_bound(a.begin(), a.end(), u) - a.begin());
-                ASSERT_EQ(upperBound(a.data(), count, u), expected) << "count " << count << ", u " << u;
-                ++checked;
-            }
-        }
-    EXPECT_GT(checked, 100000u);
-}
 
 // The lookup a path that leaves the scene makes (radiance and density from one mapping of its direction)
 // gives radiance() and pdf() bit for bit, with either filter, rotated or not, and a black map's density 0.

@@ -12,21 +12,6 @@
 
 namespace symphong {
 
-/// std::upper_bound's index into a sorted a[0, count) (count >= 1): the first i with u < a[i], count where
-/// there is none (a NaN u: count, as std::upper_bound gives). The range is halved count's bit length times
-/// whatever u is, each step moving the base by a mask instead of a branch: a sample's u sends a branchy
-/// search left or right at random, a mispredicted branch about every other step (a third of an HDR-lit
-/// render's environment sampling). The same index as std::upper_bound, always.
-inline std::size_t upperBound(const double* a, std::size_t count, double u) {
-    std::size_t base = 0, n = count;  // the answer lies in [base, base + n]
-    while (n > 1) {
-        const std::size_t half = n / 2;
-        base += half & (std::size_t{0} - static_cast<std::size_t>(!(u < a[base + half])));
-        n -= half;
-    }
-    return base + static_cast<std::size_t>(!(u < a[base]));
-}
-
 class Distribution2D {
 public:
     Distribution2D() = default;
@@ -73,7 +58,7 @@ private:
     /// The cell i of an n-cell CDF (cdf[0] = 0, cdf[n] = 1) with cdf[i] <= u < cdf[i+1] and a non-zero
     /// share, and u's offset inside it in [0,1).
     static std::size_t invert(const double* cdf, std::size_t n, double u, double& offset) {
-        std::size_t i = upperBound(cdf, n + 1, u);
+        std::size_t i = static_cast<std::size_t>(std::upper_bound(cdf, cdf + n + 1, u) - cdf);
         i = i == 0 ? 0 : std::min(i - 1, n - 1);
         while (i > 0 && cdf[i + 1] - cdf[i] <= 0) --i;  // never a zero-weight cell
         while (cdf[i + 1] - cdf[i] <= 0 && i + 1 < n) ++i;
