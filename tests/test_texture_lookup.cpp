@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 using namespace symphong;
@@ -40,43 +41,42 @@ double reference(const std::vector<float>& img, double u, double v, WrapMode mu,
            planeTexel(img, x0, y0 + 1, mu, mv) * (1 - tx) * ty + planeTexel(img, x0 + 1, y0 + 1, mu, mv) * tx * ty;
 }
 
-}  // namespace
-
-TEST(TextureLookup, BilinearWithEveryWrapModeMatchesAnExplicitPlaneOfTiles) {
-    Rng rng(41, 2);
+/// check(texture, image, wrapU, wrapV, u, v) for a random image of kW x kH texels under every pair of wrap
+/// modes, at 2000 random (u, v) in (-2.5, 3.5) each: well inside the plane of 7 tiles (-3 .. 4).
+template <class Check>
+void forEveryWrapMode(std::uint64_t seed, Check&& check) {
+    Rng rng(seed, 2);
     std::vector<float> img(kW * kH);
     for (float& t : img) t = static_cast<float>(rng.uniform());
     for (WrapMode mu : {WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror})
         for (WrapMode mv : {WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror}) {
             Texture tex("t", kW, kH, 1, img);
             tex.wrapU = mu, tex.wrapV = mv;
-            for (int i = 0; i < 2000; ++i) {
-                // Coordinates in (-2.5, 3.5): well inside the plane of 7 tiles (-3 .. 4).
+            for (int i = 0; i < 2000 && !::testing::Test::HasFatalFailure(); ++i) {
                 const double u = -2.5 + 6 * rng.uniform(), v = -2.5 + 6 * rng.uniform();
-                ASSERT_NEAR(tex.channel(u, v, 0), reference(img, u, v, mu, mv), 1e-6)
-                    << wrapModeName(mu) << "/" << wrapModeName(mv) << " at (" << u << ", " << v << ")";
+                check(tex, img, mu, mv, u, v);
             }
         }
 }
 
+}  // namespace
+
+TEST(TextureLookup, BilinearWithEveryWrapModeMatchesAnExplicitPlaneOfTiles) {
+    forEveryWrapMode(41, [](const Texture& tex, const std::vector<float>& img, WrapMode mu, WrapMode mv, double u, double v) {
+        ASSERT_NEAR(tex.channel(u, v, 0), reference(img, u, v, mu, mv), 1e-6)
+            << wrapModeName(mu) << "/" << wrapModeName(mv) << " at (" << u << ", " << v << ")";
+    });
+}
+
 // The nearest texel against the same plane: the texel under (u, v) there, for every wrap mode.
 TEST(TextureLookup, NearestTexelWithEveryWrapModeIsThePlanesTexel) {
-    Rng rng(43, 2);
-    std::vector<float> img(kW * kH);
-    for (float& t : img) t = static_cast<float>(rng.uniform());
-    for (WrapMode mu : {WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror})
-        for (WrapMode mv : {WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror}) {
-            Texture tex("t", kW, kH, 1, img);
-            tex.wrapU = mu, tex.wrapV = mv;
-            for (int i = 0; i < 2000; ++i) {
-                const double u = -2.5 + 6 * rng.uniform(), v = -2.5 + 6 * rng.uniform();
-                int x = -1, y = -1;
-                tex.nearestTexel(u, v, x, y);
-                const int px = static_cast<int>(std::floor(u * kW)), py = static_cast<int>(std::floor((1 - v) * kH));
-                ASSERT_EQ(tex.texelRgb(x, y).x, planeTexel(img, px, py, mu, mv))
-                    << wrapModeName(mu) << "/" << wrapModeName(mv) << " at (" << u << ", " << v << ")";
-            }
-        }
+    forEveryWrapMode(43, [](const Texture& tex, const std::vector<float>& img, WrapMode mu, WrapMode mv, double u, double v) {
+        int x = -1, y = -1;
+        tex.nearestTexel(u, v, x, y);
+        const int px = static_cast<int>(std::floor(u * kW)), py = static_cast<int>(std::floor((1 - v) * kH));
+        ASSERT_EQ(tex.texelRgb(x, y).x, planeTexel(img, px, py, mu, mv))
+            << wrapModeName(mu) << "/" << wrapModeName(mv) << " at (" << u << ", " << v << ")";
+    });
 }
 
 TEST(TextureLookup, SrgbCurveIsTheStandardsFormula) {

@@ -20,7 +20,7 @@ const char* wrapModeName(WrapMode mode) {
 Texture::Texture(std::string name, int width, int height, int channels, std::vector<float> texels)
     : name_(std::move(name)), width_(width), height_(height), channels_(channels), texels_(std::move(texels)) {}
 
-int wrapIndex(int i, int n, WrapMode mode) {
+int wrapOutside(int i, int n, WrapMode mode) {
     switch (mode) {
         case WrapMode::Clamp:
             return i < 0 ? 0 : (i >= n ? n - 1 : i);
@@ -56,10 +56,8 @@ void Texture::bilinear(double u, double v, Fn&& fn) const {
     const double fx = std::floor(x), fy = std::floor(y);
     const double tx = x - fx, ty = y - fy;
     const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
-    // Inside the image every wrap mode leaves an index as it is: its divisions only at the edges.
-    const bool insideX = x0 >= 0 && x0 + 1 < width_, insideY = y0 >= 0 && y0 + 1 < height_;
-    const int xa = insideX ? x0 : wrapIndex(x0, width_, wrapU), xb = insideX ? x0 + 1 : wrapIndex(x0 + 1, width_, wrapU);
-    const int ya = insideY ? y0 : wrapIndex(y0, height_, wrapV), yb = insideY ? y0 + 1 : wrapIndex(y0 + 1, height_, wrapV);
+    const int xa = wrapIndex(x0, width_, wrapU), xb = wrapIndex(x0 + 1, width_, wrapU);
+    const int ya = wrapIndex(y0, height_, wrapV), yb = wrapIndex(y0 + 1, height_, wrapV);
     fn(xa, ya, (1 - tx) * (1 - ty));
     fn(xb, ya, tx * (1 - ty));
     fn(xa, yb, (1 - tx) * ty);
@@ -82,9 +80,8 @@ double Texture::channel(double u, double v, int c) const {
 void Texture::nearestTexel(double u, double v, int& x, int& y) const {
     double fx = std::floor(u * width_), fy = std::floor((1.0 - v) * height_);
     if (!std::isfinite(fx) || !std::isfinite(fy) || std::abs(fx) > 1e9 || std::abs(fy) > 1e9) fx = fy = 0;
-    const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
-    x = ix >= 0 && ix < width_ ? ix : wrapIndex(ix, width_, wrapU);  // as bilinear: the wrap only outside
-    y = iy >= 0 && iy < height_ ? iy : wrapIndex(iy, height_, wrapV);
+    x = wrapIndex(static_cast<int>(fx), width_, wrapU);
+    y = wrapIndex(static_cast<int>(fy), height_, wrapV);
 }
 
 }  // namespace symphong

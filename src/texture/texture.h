@@ -66,8 +66,11 @@ private:
     std::vector<float> texels_;
 };
 
-/// Index of coordinate i in [0, n) under a wrap mode (any integer i).
-int wrapIndex(int i, int n, WrapMode mode);
+/// wrapIndex of an i outside [0, n).
+int wrapOutside(int i, int n, WrapMode mode);
+/// Index of coordinate i in [0, n) under a wrap mode (any integer i). Inside the image every mode leaves i
+/// as it is: the divisions of the wrap only at the edges (inline: four calls a bilinear lookup).
+inline int wrapIndex(int i, int n, WrapMode mode) { return i >= 0 && i < n ? i : wrapOutside(i, n, mode); }
 
 /// The sRGB transfer curve inverted: an encoded value in [0,1] to linear.
 double srgbToLinear(double encoded);
