@@ -4,6 +4,7 @@
 #include "io/input_error.h"
 #include "sampling/rng.h"
 #include "sampling/sampler_registry.h"
+#include "splitting/learning.h"
 #include "study/study_parts.h"
 
 #include <fmt/format.h>
@@ -187,5 +188,30 @@ EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v) {
     if (v.orbit > 0) o.symmetricOrbit = v.orbit;
     return o;
 }
+
+RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v, std::uint32_t spp) {
+    RenderSettings rs;
+    rs.width = c.width;
+    rs.height = c.height;
+    rs.threads = c.threads;
+    rs.trace.maxDepth = c.maxDepth;
+    rs.spp = spp;
+    rs.sampler = v.sampler;
+    rs.trace.firstHitSplit = v.split;
+    rs.trace.splitting = v.splitting;
+    rs.trace.jointFirstBounce = c.jointFirstBounce && v.splitting == SplittingMode::None;
+    return rs;
+}
+
+StudyVariant referenceVariant(const StudyConfig& c) {
+    StudyVariant v;
+    v.estimator = c.referenceEstimator;
+    v.sampler = c.referenceSampler;
+    v.label = referenceMethod(c);
+    v.splitting = splittingMode(c.referenceSplitting);
+    return v;
+}
+
+std::uint32_t pilotSpp(const StudyVariant& v) { return learnsFactors(v.splitting) ? 2 * ears::kProbeMinSpp : 2; }
 
 }  // namespace symphong

@@ -94,7 +94,7 @@ public:
 private:
     void prepare();
     RenderSettings base() const;
-    double pilotCost(const std::string& name, const EstimatorOptions& options, const std::string& sampler) const;
+    double pilotCost(const StudyVariant& variant, const EstimatorOptions& options) const;
     double plannedWork();
     bool renderReference();
     /// The repeats of every variant at one spp (and their variance budget at the top spp); false when cancelled.
@@ -171,16 +171,14 @@ RenderSettings StudyRun::base() const {
     return base;
 }
 
-// Cost per camera sample of an estimator, from a small pilot render, so the progress bar's ETA accounts
-// for estimators that trace 24 paths per sample.
-double StudyRun::pilotCost(const std::string& name, const EstimatorOptions& options, const std::string& sampler) const {
-    RenderSettings pilot = base();
-    pilot.width = pilot.height = 24;
-    pilot.spp = 2;
+// Time per camera sample of a variant (or the reference), from a small pilot render with its settings, so
+// that the progress bar's ETA accounts for estimators that trace 24 paths per sample, first-hit splits
+// and EARS (pilotSpp).
+double StudyRun::pilotCost(const StudyVariant& variant, const EstimatorOptions& options) const {
+    RenderSettings pilot = variantRenderSettings(c_, variant, pilotSpp(variant));
+    pilot.width = pilot.height = kPilotSize;
     pilot.seed = 99;
-    pilot.sampler = sampler;
-    pilot.cancel = nullptr;
-    const auto est = makeEstimator(name, options);
+    const auto est = makeEstimator(variant.estimator, options);
     const RenderResult r = render(scene_, *accel_, *est, pilot);
     return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
 }
@@ -190,10 +188,10 @@ double StudyRun::plannedWork() {
     double total = 0;
     if (writer_)
         for (const auto& v : variants_) {
-            cost_[v.label] = pilotCost(v.estimator, variantOptions(c_, v), v.sampler);
+            cost_[v.label] = pilotCost(v, variantOptions(c_, v));
             for (auto s : c_.spps) total += cost_[v.label] * s * c_.width * c_.height * c_.repeats;
         }
-    const double refCost = ref_.have || !writer_ ? 0.0 : pilotCost(c_.referenceEstimator, c_.options, c_.referenceSampler);
+    const double refCost = ref_.have || !writer_ ? 0.0 : pilotCost(referenceVariant(c_), c_.options);
     progress_.currentCost = refCost;
     return total + refCost * c_.referenceSpp * c_.width * c_.height;
 }
@@ -306,12 +304,8 @@ void StudyRun::orderRows() {
 // variant: repeats are paired), measured into a row and the group's accumulators; false when cancelled.
 bool StudyRun::renderRepeat(std::uint32_t spp, std::size_t ei, int rep, const Estimator& est) {
     const StudyVariant& variant = variants_[ei];
-    RenderSettings rs = base();
-    rs.spp = spp;
-    rs.sampler = variant.sampler;
-    rs.trace.firstHitSplit = variant.split;
-    rs.trace.splitting = variant.splitting;
-    rs.trace.jointFirstBounce = c_.jointFirstBounce && variant.splitting == SplittingMode::None;
+    RenderSettings rs = variantRenderSettings(c_, variant, spp);
+    rs.cancel = cancel_;
     rs.seed = repeatSeed(c_.seed, spp, rep);
     const RenderResult r = rt_.render(scene_, *accel_, est, rs, &progress_.samples);
     progress_.finished(cost_[variant.label] * spp * c_.width * c_.height);
@@ -432,12 +426,8 @@ double StudyRun::budgetVariance(std::uint32_t spp, std::size_t ei, const Estimat
     const StudyVariant& variant = variants_[ei];
     double sum = 0;
     for (int b = 0; b < c_.budgetPairs && !outcome_.cancelled; ++b) {
-        RenderSettings rs = base();
-        rs.spp = spp;
-        rs.sampler = variant.sampler;
-        rs.trace.firstHitSplit = variant.split;
-        rs.trace.splitting = variant.splitting;
-        rs.trace.jointFirstBounce = c_.jointFirstBounce && variant.splitting == SplittingMode::None;
+        RenderSettings rs = variantRenderSettings(c_, variant, spp);
+        rs.cancel = cancel_;
         rs.seed = mixSeed(mixSeed(mixSeed(c_.seed, ei + 1), 0xB0D6E7), static_cast<std::uint64_t>(b));
         Image pair[2];
         for (std::uint32_t stream = 1; stream <= 2 && !outcome_.cancelled; ++stream) {

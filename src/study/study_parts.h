@@ -35,6 +35,18 @@ std::string referenceMethod(const StudyConfig& c);
 std::uint64_t repeatSeed(std::uint64_t seed, std::uint32_t spp, int rep);
 /// The estimator options of a variant (its mode, its orbit).
 EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v);
+/// The settings of a variant's renders at `spp`: the study's size, threads and depth, the variant's sampler,
+/// first-hit split and splitting (its repeats, variance budget and pilot all render with them); no seed, no
+/// cancel.
+RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v, std::uint32_t spp);
+/// The reference's method as a variant (its estimator, sampler and splitting) for variantRenderSettings.
+StudyVariant referenceVariant(const StudyConfig& c);
+/// Camera samples a pixel of the pilot render that estimates a variant's time per camera sample for the
+/// progress bar (24 x 24 pixels): 2, or ears::kProbeMinSpp x 2 for a variant that learns EARS factors, so
+/// that its probe runs and its first epochs split as a render of the study would (at 2 it would split
+/// nothing: the estimate was 4 times short on the smooth-sky scenes, where EARS takes 4 times the time).
+std::uint32_t pilotSpp(const StudyVariant& v);
+inline constexpr int kPilotSize = 24;
 
 // ---- reference.cpp
 
