@@ -364,14 +364,13 @@ TEST(StudyPilot, RendersEachVariantAsItsRepeatsDo) {
     c.splitEstimators = {"phong"};
     c.splittings = {"none", "ears"};
     c.width = 40, c.height = 30, c.threads = 2, c.maxDepth = 9;
+    c.spps = {16};
     c.referenceSplitting = "ears";
     const Scene scene = loadScene(c.scene);
     const Accel accel(scene);
     std::map<std::string, double> raysPerSample;
     const auto pilotRays = [&](const StudyVariant& v) {
-        RenderSettings rs = variantRenderSettings(c, v, pilotSpp(v));
-        rs.width = rs.height = kPilotSize;
-        rs.seed = 99;
+        const RenderSettings rs = pilotRenderSettings(c, v);
         const RenderResult r = render(scene, accel, *makeEstimator(v.estimator, variantOptions(c, v)), rs);
         return static_cast<double>(r.stats.rays) / static_cast<double>(r.stats.samples);
     };
@@ -386,6 +385,26 @@ TEST(StudyPilot, RendersEachVariantAsItsRepeatsDo) {
         EXPECT_EQ(rs.trace.firstHitSplit, v.split) << v.label;
         EXPECT_EQ(rs.trace.splitting, v.splitting) << v.label;
         EXPECT_EQ(pilotSpp(v), v.splitting == SplittingMode::None ? 2u : 2 * ears::kProbeMinSpp) << v.label;
+        // The pilot: the variant's settings on a square of about its samples (at most one render of the
+        // study's smallest: 40 x 30 x 4 here), at least kPilotMinSide a side.
+        for (const std::vector<std::uint32_t>& spps : {std::vector<std::uint32_t>{4, 16}, std::vector<std::uint32_t>{64}}) {
+            StudyConfig sized = c;
+            sized.spps = spps;
+            const RenderSettings pilot = pilotRenderSettings(sized, v);
+            const std::uint64_t want = std::min<std::uint64_t>(kPilotSamples, 40 * 30 * spps.front());
+            const auto samplesAt = [&](int side) {
+                return static_cast<std::uint64_t>(side) * static_cast<std::uint64_t>(side) * pilot.spp;
+            };
+            EXPECT_EQ(pilot.spp, pilotSpp(v));
+            EXPECT_EQ(pilot.width, pilot.height);
+            EXPECT_EQ(pilot.trace.splitting, v.splitting);
+            EXPECT_EQ(pilot.trace.firstHitSplit, v.split);
+            EXPECT_GE(pilot.width, kPilotMinSide);
+            EXPECT_GE(samplesAt(pilot.width), want) << v.label;
+            if (pilot.width > kPilotMinSide) {
+                EXPECT_LT(samplesAt(pilot.width - 1), want) << v.label;
+            }
+        }
         raysPerSample[v.label] = pilotRays(v);
     }
     ASSERT_EQ(raysPerSample.size(), 3u);
@@ -401,9 +420,8 @@ TEST(StudyPilot, RendersEachVariantAsItsRepeatsDo) {
     const auto ears = std::find_if(variants.begin(), variants.end(), [](const StudyVariant& v) { return v.label == "phong+ears"; });
     ASSERT_NE(ears, variants.end());
     const StudyVariant& shortEars = *ears;
-    RenderSettings old = variantRenderSettings(c, shortEars, 2);
-    old.width = old.height = kPilotSize;
-    old.seed = 99;
+    RenderSettings old = pilotRenderSettings(c, shortEars);
+    old.spp = 2;
     const RenderResult r = render(scene, accel, *makeEstimator("phong", variantOptions(c, shortEars)), old);
     EXPECT_LT(static_cast<double>(r.stats.rays) / static_cast<double>(r.stats.samples), 0.8 * raysPerSample["phong+ears"]);
 }

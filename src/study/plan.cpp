@@ -214,4 +214,16 @@ StudyVariant referenceVariant(const StudyConfig& c) {
 
 std::uint32_t pilotSpp(const StudyVariant& v) { return learnsFactors(v.splitting) ? 2 * ears::kProbeMinSpp : 2; }
 
+RenderSettings pilotRenderSettings(const StudyConfig& c, const StudyVariant& v) {
+    RenderSettings pilot = variantRenderSettings(c, v, pilotSpp(v));
+    std::uint64_t samples = kPilotSamples;
+    if (!c.spps.empty())
+        samples = std::min(samples, static_cast<std::uint64_t>(c.width) * static_cast<std::uint64_t>(c.height) *
+                                        *std::min_element(c.spps.begin(), c.spps.end()));
+    const double pixels = static_cast<double>(samples) / pilot.spp;
+    pilot.width = pilot.height = std::max(kPilotMinSide, static_cast<int>(std::ceil(std::sqrt(pixels))));
+    pilot.seed = 99;
+    return pilot;
+}
+
 }  // namespace symphong

@@ -173,11 +173,9 @@ RenderSettings StudyRun::base() const {
 
 // Time per camera sample of a variant (or the reference), from a small pilot render with its settings, so
 // that the progress bar's ETA accounts for estimators that trace 24 paths per sample, first-hit splits
-// and EARS (pilotSpp).
+// and EARS (pilotRenderSettings).
 double StudyRun::pilotCost(const StudyVariant& variant, const EstimatorOptions& options) const {
-    RenderSettings pilot = variantRenderSettings(c_, variant, pilotSpp(variant));
-    pilot.width = pilot.height = kPilotSize;
-    pilot.seed = 99;
+    const RenderSettings pilot = pilotRenderSettings(c_, variant);
     const auto est = makeEstimator(variant.estimator, options);
     const RenderResult r = render(scene_, *accel_, *est, pilot);
     return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));

@@ -42,11 +42,19 @@ RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v
 /// The reference's method as a variant (its estimator, sampler and splitting) for variantRenderSettings.
 StudyVariant referenceVariant(const StudyConfig& c);
 /// Camera samples a pixel of the pilot render that estimates a variant's time per camera sample for the
-/// progress bar (24 x 24 pixels): 2, or ears::kProbeMinSpp x 2 for a variant that learns EARS factors, so
-/// that its probe runs and its first epochs split as a render of the study would (at 2 it would split
-/// nothing: the estimate was 4 times short on the smooth-sky scenes, where EARS takes 4 times the time).
+/// progress bar: 2, or ears::kProbeMinSpp x 2 for a variant that learns EARS factors, so that its probe runs
+/// and its first epochs split as a render of the study would (on the smooth-sky scene sky-n10 it traces twice
+/// phong's rays a sample at 16, 1.4 times at 2, where a 64-spp render of the study traces 3.3 times).
 std::uint32_t pilotSpp(const StudyVariant& v);
-inline constexpr int kPilotSize = 24;
+/// The pilot's camera samples: kPilotSamples, or fewer in a study whose renders are smaller (as many as its
+/// smallest render: the pilot never costs more than a repeat), but never under kPilotMinPixels pixels. A
+/// pilot of a millisecond or two was mostly the render's fixed start (its tracer, tiles and threads), which
+/// pulled every variant's estimate towards the same cost.
+inline constexpr std::uint64_t kPilotSamples = 16384;
+inline constexpr int kPilotMinSide = 24;
+/// The pilot's settings: variantRenderSettings at pilotSpp, on a square image of about the pilot's samples
+/// (at least kPilotMinSide pixels a side), seed 99.
+RenderSettings pilotRenderSettings(const StudyConfig& c, const StudyVariant& v);
 
 // ---- reference.cpp
 
