@@ -171,17 +171,20 @@ RenderSettings StudyRun::base() const {
     return base;
 }
 
-// Time per camera sample of a variant (or the reference), from a small pilot render with its settings, so
-// that the progress bar's ETA accounts for estimators that trace 24 paths per sample, first-hit splits
-// and EARS (pilotRenderSettings).
+// CPU time per camera sample of a variant (or the reference), from a small pilot render with its settings,
+// so that the progress bar's ETA accounts for estimators that trace 24 paths per sample, first-hit splits
+// and EARS (pilotRenderSettings). CPU time, not wall: a render this small keeps the threads only partly busy
+// (on sky-n10, the pilots' EARS / phong ratio by wall time swung 1.5-2.9 between runs, by CPU time 3.2,
+// where the study's 128x96 renders take 4.3 times phong's time); the bar only needs the costs' proportions.
 double StudyRun::pilotCost(const StudyVariant& variant, const EstimatorOptions& options) const {
     const RenderSettings pilot = pilotRenderSettings(c_, variant);
     const auto est = makeEstimator(variant.estimator, options);
     const RenderResult r = render(scene_, *accel_, *est, pilot);
-    return std::max(1e-9, r.stats.seconds / static_cast<double>(r.stats.samples));
+    return std::max(1e-9, r.stats.cpuSeconds / static_cast<double>(r.stats.samples));
 }
 
-// The work of the whole study in estimated seconds; only the writer shows progress, the others skip the pilots.
+// The work of the whole study in estimated CPU seconds (the bar shows its proportions); only the writer shows
+// progress, the others skip the pilots.
 double StudyRun::plannedWork() {
     double total = 0;
     if (writer_)
