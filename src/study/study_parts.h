@@ -41,13 +41,13 @@ EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v);
 RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v, std::uint32_t spp);
 /// The reference's method as a variant (its estimator, sampler and splitting) for variantRenderSettings.
 StudyVariant referenceVariant(const StudyConfig& c);
-/// Camera samples a pixel of the pilot render that estimates a variant's time per camera sample for the
+/// Camera samples a pixel of the pilot render that estimates a variant's CPU time per camera sample for the
 /// progress bar: 2, or ears::kProbeMinSpp x 2 for a variant that learns EARS factors, so that its probe runs
 /// and its first epochs split as a render of the study would (on the smooth-sky scene sky-n10 it traces twice
 /// phong's rays a sample at 16, 1.4 times at 2, where a 64-spp render of the study traces 3.3 times).
 std::uint32_t pilotSpp(const StudyVariant& v);
 /// The pilot's camera samples: kPilotSamples, or fewer in a study whose renders are smaller (as many as its
-/// smallest render: the pilot never costs more than a repeat), but never under kPilotMinPixels pixels. A
+/// smallest render: the pilot costs no more than a repeat), but never under kPilotMinSide pixels a side. A
 /// pilot of a millisecond or two was mostly the render's fixed start (its tracer, tiles and threads), which
 /// pulled every variant's estimate towards the same cost.
 inline constexpr std::uint64_t kPilotSamples = 16384;
