@@ -189,12 +189,17 @@ EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v) {
     return o;
 }
 
-RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v, std::uint32_t spp) {
+RenderSettings studyRenderSettings(const StudyConfig& c) {
     RenderSettings rs;
     rs.width = c.width;
     rs.height = c.height;
     rs.threads = c.threads;
     rs.trace.maxDepth = c.maxDepth;
+    return rs;
+}
+
+RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v, std::uint32_t spp) {
+    RenderSettings rs = studyRenderSettings(c);
     rs.spp = spp;
     rs.sampler = v.sampler;
     rs.trace.firstHitSplit = v.split;

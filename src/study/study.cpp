@@ -162,11 +162,7 @@ void StudyRun::prepare() {
 }
 
 RenderSettings StudyRun::base() const {
-    RenderSettings base;
-    base.width = c_.width;
-    base.height = c_.height;
-    base.threads = c_.threads;
-    base.trace.maxDepth = c_.maxDepth;
+    RenderSettings base = studyRenderSettings(c_);
     base.cancel = cancel_;
     return base;
 }

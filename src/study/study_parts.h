@@ -35,7 +35,9 @@ std::string referenceMethod(const StudyConfig& c);
 std::uint64_t repeatSeed(std::uint64_t seed, std::uint32_t spp, int rep);
 /// The estimator options of a variant (its mode, its orbit).
 EstimatorOptions variantOptions(const StudyConfig& c, const StudyVariant& v);
-/// The settings of a variant's renders at `spp`: the study's size, threads and depth, the variant's sampler,
+/// What every render of the study shares: its size, threads and depth (the reference's and the variants').
+RenderSettings studyRenderSettings(const StudyConfig& c);
+/// The settings of a variant's renders at `spp`: studyRenderSettings and the variant's sampler,
 /// first-hit split and splitting (its repeats, variance budget and pilot all render with them); no seed, no
 /// cancel.
 RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v, std::uint32_t spp);
