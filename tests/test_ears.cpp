@@ -858,11 +858,46 @@ TEST(EarsCheckpoint, ResumesInsideAnEpochBitForBit) {
     EXPECT_TRUE(sameBits(whole.variance(), resumed.variance()));
 }
 
+// The default, --splitting auto, renders what --splitting ears renders where a render can learn, and what
+// --splitting none renders where --split, --joint-first-bounce or too few samples rule it out; the summary
+// line names the one used, and the scene file's own settings count as the user's.
+TEST(EarsCli, TheDefaultSplittingIsEarsWhereItCanLearn) {
+    const test::TempDir tmp;
+    const std::vector<std::string> base{"render", "cornell", "-W", "24", "-H", "18", "--seed", "4", "-t", "2"};
+    const auto render = [&](const std::string& name, std::vector<std::string> extra) {
+        std::vector<std::string> args = base;
+        args.insert(args.end(), extra.begin(), extra.end());
+        args.insert(args.end(), {"-o", tmp.file(name + ".exr")});
+        const test::CliRun r = test::runCliArgs(args);
+        EXPECT_EQ(r.code, 0) << name << ": " << r.err;
+        return std::make_pair(readExr(tmp.file(name + ".exr")), r.out);
+    };
+    const auto [autoImage, autoOut] = render("auto", {"--spp", "16"});
+    const auto [earsImage, earsOut] = render("ears", {"--spp", "16", "--splitting", "ears"});
+    const auto [noneImage, noneOut] = render("none", {"--spp", "16", "--splitting", "none"});
+    EXPECT_TRUE(sameBits(autoImage, earsImage));
+    EXPECT_FALSE(sameBits(autoImage, noneImage));
+    EXPECT_NE(autoOut.find("splitting ears:"), std::string::npos) << autoOut;
+    EXPECT_NE(noneOut.find("splitting none:"), std::string::npos) << noneOut;
+    const auto [splitAuto, splitOut] = render("split-auto", {"--spp", "16", "--split", "2"});
+    const auto [splitNone, unused1] = render("split-none", {"--spp", "16", "--split", "2", "--splitting", "none"});
+    EXPECT_TRUE(sameBits(splitAuto, splitNone));
+    EXPECT_NE(splitOut.find("splitting none:"), std::string::npos) << splitOut;
+    const auto [fewAuto, fewOut] = render("few-auto", {"--spp", std::to_string(ears::kProbeMinSpp - 1)});
+    const auto [fewNone, unused2] = render("few-none", {"--spp", std::to_string(ears::kProbeMinSpp - 1), "--splitting", "none"});
+    EXPECT_TRUE(sameBits(fewAuto, fewNone));
+    const std::string scene = tmp.write("s.json", R"({"builtin": "cornell", "render": {"spp": 16, "split": 2}})");
+    const test::CliRun r =
+        test::runCliArgs({"render", scene, "-W", "24", "-H", "18", "--seed", "4", "-t", "2", "-o", tmp.file("scene.exr")});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(sameBits(readExr(tmp.file("scene.exr")), splitNone)) << "the scene's --split 2 rules ears out as the user's would";
+}
+
 TEST(EarsCli, BadValuesAreRefusedWithExitCode2) {
     const test::TempDir tmp;
     auto r = test::runCliArgs({"render", "--splitting", "foo", "-o", tmp.file("a.png")});
     EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_NE(r.err.find("foo"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--splitting: foo not in {auto,none,ears,ears-orbit}"), std::string::npos) << r.err;
     r = test::runCliArgs({"render", "--splitting", "ears", "--split", "2", "-o", tmp.file("b.png")});
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find("--split 2 and --splitting ears"), std::string::npos) << r.err;

@@ -7,6 +7,7 @@
 #include "io/input_error.h"
 #include "render/settings.h"
 #include "scene/scene.h"
+#include "splitting/learning.h"
 #include "study/config.h"
 
 #include <gtest/gtest.h>
@@ -72,6 +73,42 @@ TEST(Schema, RenderDefaultsAreTheRenderersOwn) {
     EXPECT_EQ(study.plots, own.plots);
     ASSERT_EQ(study.modes.size(), 1u);
     EXPECT_EQ(study.modes[0], own.modes[0]);
+}
+
+TEST(Schema, SplittingAutoIsEarsWhereARenderCanLearnElseNone) {
+    RenderOptions o;  // the command's defaults: 64 spp, no --split, no --joint-first-bounce
+    EXPECT_EQ(o.splitting, kAutoSplitting);
+    EXPECT_EQ(effectiveSplitting(o), SplittingMode::Ears);
+    EXPECT_EQ(renderSettings(o).trace.splitting, SplittingMode::Ears);
+    EXPECT_EQ(RenderSettings{}.trace.splitting, SplittingMode::None) << "a bare RenderSettings (tests, benches, the study) does not learn";
+    RenderOptions split = o;
+    split.split = 2;  // the user chose the first hit's splitting
+    EXPECT_EQ(effectiveSplitting(split), SplittingMode::None);
+    EXPECT_NO_THROW(checkRenderOptions(split)) << "auto never resolves to a refused pair";
+    RenderOptions joint = o;
+    joint.jointFirstBounce = true;
+    EXPECT_EQ(effectiveSplitting(joint), SplittingMode::None);
+    EXPECT_NO_THROW(checkRenderOptions(joint));
+    RenderOptions few = o;
+    few.spp = ears::kProbeMinSpp - 1;  // no probe: every sample would render unlearned
+    EXPECT_EQ(effectiveSplitting(few), SplittingMode::None);
+    few.spp = ears::kProbeMinSpp;
+    EXPECT_EQ(effectiveSplitting(few), SplittingMode::Ears);
+    // A name given is the name used, whatever the other settings.
+    for (const std::string& name : splittingNames()) {
+        RenderOptions given = few;
+        given.splitting = name;
+        given.estimator = "phong";
+        EXPECT_EQ(effectiveSplitting(given), splittingMode(name)) << name;
+        resolveSplitting(given);
+        EXPECT_EQ(given.splitting, name);
+    }
+    resolveSplitting(split);
+    EXPECT_EQ(split.splitting, "none");
+    resolveSplitting(o);
+    EXPECT_EQ(o.splitting, "ears");
+    resolveSplitting(o);  // idempotent
+    EXPECT_EQ(o.splitting, "ears");
 }
 
 TEST(Schema, JsonRoundTripAndErrorsNameTheKey) {

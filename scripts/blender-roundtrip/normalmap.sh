@@ -22,7 +22,7 @@ for run in scene.glb scene_tangents.glb scene.fbx scene_tspace.fbx obj_camera.js
            "scene.glb --bump-shadowing"; do
   read -r f flag <<<"$run"
   out="$work/${f//./_}${flag:+_shadowing}.exr"
-  "$bin" render "$data/$f" $flag -W "$width" -H "$height" -s "$spp" --seed 7 -o "$out" >/dev/null 2>&1
+  "$bin" render "$data/$f" $flag -W "$width" -H "$height" -s "$spp" --seed 7 --splitting none -o "$out" >/dev/null 2>&1
   flip=$("$bin" compare "$out" "$work/scene_glb.exr" | sed -n 's/^FLIP *\([0-9.]*\).*/\1/p')
   echo "| $run | $(ratio "$out" "$work/scene_glb.exr") | $flip | $(ratio "$out" "$data/cycles_reference.exr") |"
 done

@@ -11,7 +11,7 @@ mkdir -p "$d"
 threads=$(nproc)
 /usr/bin/python3 scripts/validate/export_scene.py scenes/cornell-classic.json "$d/scene.json"
 for seed in 1 2; do
-  build/release/symphong render scenes/cornell-classic.json -W 256 -H 256 --spp 1024 --seed $seed --max-depth 1 -t "$threads" \
+  build/release/symphong render scenes/cornell-classic.json -W 256 -H 256 --spp 1024 --seed $seed --max-depth 1 --splitting none -t "$threads" \
     -o "$d/symphong-$seed.exr" >/dev/null
   blender -b --factory-startup -P scripts/validate/cycles_scene.py -- "$d/scene.json" "$d/cycles-$seed.exr" 256 256 1024 $seed "$threads" 0 \
     >"$d/cycles-$seed.log" 2>&1

@@ -3,7 +3,7 @@ renderer renders the scene K times with K seeds; the mean over pixels of the per
 seeds is the MSE of one render (both renderers are unbiased here: docs/validation.md shows them within
 0.6%, a bias whose square is 1e-3 of these variances); its cost is the render's CPU time (all threads),
 as the study measures cost. Efficiency = 1 / (MSE x CPU seconds). Cycles gets the sample count that
-makes its render take as long as symphong's default `phong` render (one calibration render first), so
+makes its render take as long as symphong's plain `phong` render (one calibration render first), so
 the MSEs are equal-time MSEs; the efficiency ratio also corrects for what is left of the difference.
 
     python3 scripts/validate/efficiency.py                 # 256x256, 64 spp, 8 seeds, two scenes; ~10 minutes on 2 cores
@@ -14,8 +14,9 @@ the MSEs are equal-time MSEs; the efficiency ratio also corrects for what is lef
 Runs with Debian's python3 and NumPy; builds symphong (release preset) if needed; Blender from Debian
 (`apt-get install blender`). Renders and times.json files go to out/efficiency/<scene>/.
 
-symphong: `symphong render SCENE -W -H --spp --seed --max-depth 64 -t THREADS` (its defaults: `phong`,
-`sobol`, NEE with MIS), and the same with `--splitting ears`; timed from outside (fork to exit, so its
+symphong: `symphong render SCENE -W -H --spp --seed --max-depth 64 -t THREADS --splitting none` (`phong`,
+`sobol`, NEE with MIS, one path a camera sample), and the same with `--splitting ears` (what the default,
+`--splitting auto`, renders at these sample counts); timed from outside (fork to exit, so its
 start-up and scene loading count). Cycles (cycles_timed.py): the settings of docs/validation.md
 (CPU, no denoising, 64 bounces, no clamping, box pixel filter 1 px: the image symphong renders) with
 its default sampling pattern, adaptive sampling off (`fixed`) and on (`adaptive`, Blender's default
@@ -124,10 +125,10 @@ def measure(key, spec, args, out):
     d.mkdir(parents=True, exist_ok=True)
     seeds = list(range(1, args.seeds + 1))
     rows = []
-    img, cpu, wall = symphong_runs(spec, d, args.size, args.spp, seeds, args.threads, [], "phong")
-    rows.append(summarise("symphong `phong` (default)", img, cpu, wall, {"spp": args.spp}))
+    img, cpu, wall = symphong_runs(spec, d, args.size, args.spp, seeds, args.threads, ["--splitting", "none"], "phong")
+    rows.append(summarise("symphong `phong --splitting none`", img, cpu, wall, {"spp": args.spp}))
     img, cpu, wall = symphong_runs(spec, d, args.size, args.spp, seeds, args.threads, ["--splitting", "ears"], "ears")
-    rows.append(summarise("symphong `phong --splitting ears`", img, cpu, wall, {"spp": args.spp}))
+    rows.append(summarise("symphong `phong --splitting ears` (the default)", img, cpu, wall, {"spp": args.spp}))
     if args.no_cycles:
         return rows
     env_py = ROOT / "build/release/python"

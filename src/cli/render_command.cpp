@@ -72,6 +72,7 @@ int runRender(const RenderOptions& given, const std::set<std::string>& givenKeys
             checkRenderOptions(o);
             estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
         }
+        resolveSplitting(o);
         output = o.output.empty() ? fmt::format("out/{}.png", scene.name) : o.output;
         if (job.root()) checkWritable(output);
         if (job.root() && !o.varianceOutput.empty()) checkVarianceOutput(o.varianceOutput);
@@ -104,8 +105,8 @@ int runRender(const RenderOptions& given, const std::set<std::string>& givenKeys
     writeImage(result.image, output, o.exposure, o.exrHalf);
     if (!o.varianceOutput.empty()) writeExr(result.variance, o.varianceOutput);
     const double secs = std::max(result.stats.seconds, 1e-9);
-    fmt::print("{}: {}x{}, {} spp, estimator {}, sampler {}{}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name, o.width,
-               o.height, o.spp, estimator->name(), result.sampler,
+    fmt::print("{}: {}x{}, {} spp, estimator {}, sampler {}, splitting {}{}: {:.2f} s, {:.2f} Mrays/s, {}samples/s -> {}\n", scene.name,
+               o.width, o.height, o.spp, estimator->name(), result.sampler, o.splitting,
                job.size() > 1 ? fmt::format(", {} ranks (tiles {}, gather {:.3f} s)", job.size(), fmt::join(distributed.tilesPerRank, "/"),
                                             distributed.gatherSeconds)
                               : "",

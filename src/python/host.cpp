@@ -101,6 +101,7 @@ public:
         pyschema::applyKwargs(options_, renderSchema(), kwargs, "Progressive");
         applySceneSettings(options_, scene_->scene(), scene_->spec(), pyschema::givenKeys(renderSchema(), kwargs));
         checkRenderOptions(options_);
+        resolveSplitting(options_);
         if (options_.progressive())
             throw InputError(
                 "Progressive: time, target_error, pass_spp, checkpoint and resume are render()'s; here each advance() is a pass");
@@ -166,6 +167,7 @@ public:
         d["spp_reached"] = state_.samplesReached();
         d["estimator"] = estimator_->name();
         d["sampler"] = effectiveSampler(*estimator_, settings_.sampler);
+        d["splitting"] = options_.splitting;  // the one used: auto resolved
         return d;
     }
 

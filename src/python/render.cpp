@@ -51,6 +51,7 @@ py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
     const std::shared_ptr<PyScene> scene = sceneArgument(sceneArg);
     applySceneSettings(o, scene->scene(), scene->spec(), pyschema::givenKeys(renderSchema(), kwargs));
     checkRenderOptions(o);
+    resolveSplitting(o);
     std::unique_ptr<Estimator> estimator;
     try {
         estimator = makeEstimator(o.estimator, o.estimatorOptions);
@@ -87,6 +88,7 @@ py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
     stats["samples_per_second"] = r.stats.samples / secs;
     stats["estimator"] = estimator->name();
     stats["sampler"] = r.sampler;
+    stats["splitting"] = o.splitting;  // the one used: auto resolved
     stats["spp"] = s.spp;
     stats["width"] = s.width;
     stats["height"] = s.height;

@@ -3,9 +3,11 @@
 #include "estimators/options.h"
 #include "io/input_error.h"
 #include "sampling/sampler_registry.h"
+#include "splitting/learning.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace symphong {
@@ -16,6 +18,30 @@ void checkSamplerName(const std::string& name) {
 }
 
 namespace {
+
+/// --splitting's names: auto, then the modes' (splitting/ears.h).
+std::vector<std::string> renderSplittingNames() {
+    std::vector<std::string> names{std::string(kAutoSplitting)};
+    names.insert(names.end(), splittingNames().begin(), splittingNames().end());
+    return names;
+}
+
+void checkRenderSplittingName(const std::string& name) {
+    if (name == kAutoSplitting) return;
+    const std::vector<std::string> names = splittingNames();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+        throw std::invalid_argument(fmt::format("unknown splitting '{}' (valid: {})", name, fmt::join(renderSplittingNames(), ", ")));
+}
+
+std::string splittingHelp() {
+    return fmt::format(
+        "continuations per path vertex: auto (the default: ears, but none with --split K > 1, with --joint-first-bounce or below {} "
+        "spp, too few samples to learn from), none (one, Russian roulette by throughput), ears (efficiency-aware Russian roulette "
+        "and splitting, Rath et al. 2022: factors learned per region of the scene from the render's own earlier samples, at every "
+        "vertex; docs/estimators.md) or ears-orbit (the same, a first hit's 2, 4 or 8 continuations one orbit of symmetric copies, "
+        "symmetric-mix's; needs --estimator phong)",
+        ears::kProbeMinSpp);
+}
 
 /// Passes, stop rules and checkpoints: none of them changes a pixel's value, only how many samples are
 /// taken (docs/rendering.md "Long renders").
@@ -114,14 +140,9 @@ const schema::Schema<RenderOptions>& renderSchema() {
                       "sub-samples of the pixel's pattern, each weighted 1/K)",
                       member(&RenderOptions::split))
                         .range(1, 64));
-        s.push_back(F("splitting", "--splitting",
-                      "continuations per path vertex: none (one, Russian roulette by throughput), ears (efficiency-aware Russian "
-                      "roulette and splitting, Rath et al. 2022: factors learned per region of the scene from the render's own "
-                      "earlier samples, at every vertex; docs/estimators.md) or ears-orbit (the same, a first hit's 2, 4 or 8 "
-                      "continuations one orbit of symmetric copies, symmetric-mix's; needs --estimator phong)",
-                      member(&RenderOptions::splitting))
-                        .namedFrom(splittingNames)
-                        .checkedBy(checkSplittingName));
+        s.push_back(F("splitting", "--splitting", splittingHelp(), member(&RenderOptions::splitting))
+                        .namedFrom(renderSplittingNames)
+                        .checkedBy(checkRenderSplittingName));
         s.push_back(F("first_bounce_stream", "--first-bounce-stream",
                       "give the first hit's estimator other random numbers (stream S), every other decision of the path keeping its "
                       "own: renders that differ only in S measure the first bounce's share of the variance (docs/estimators.md)",
@@ -168,7 +189,7 @@ void checkRenderOptions(const RenderOptions& o) {
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));
     requireImageMemory(o.width, o.height);
     if (!std::isfinite(o.exposure)) throw InputError(fmt::format("--exposure {} is not finite", o.exposure));
-    const SplittingMode splitting = splittingMode(o.splitting);  // a name the schema checked
+    const SplittingMode splitting = effectiveSplitting(o);  // auto or a name the schema checked
     if (learnsFactors(splitting) && o.split > 1)
         throw InputError(fmt::format("--split {} and --splitting {}: ears decides the first hit's splitting itself; give one of them",
                                      o.split, o.splitting));
@@ -202,6 +223,14 @@ StopRules stopRules(const RenderOptions& o) {
     return rules;
 }
 
+SplittingMode effectiveSplitting(const RenderOptions& o) {
+    if (o.splitting != kAutoSplitting) return splittingMode(o.splitting);
+    const bool learns = o.split <= 1 && !o.jointFirstBounce && o.spp >= ears::kProbeMinSpp;
+    return learns ? SplittingMode::Ears : SplittingMode::None;
+}
+
+void resolveSplitting(RenderOptions& o) { o.splitting = splittingName(effectiveSplitting(o)); }
+
 RenderSettings renderSettings(const RenderOptions& o) {
     RenderSettings settings;
     settings.width = o.width;
@@ -216,7 +245,7 @@ RenderSettings renderSettings(const RenderOptions& o) {
     settings.trace.firstBounceStream = o.firstBounceStream;
     settings.trace.jointFirstBounce = o.jointFirstBounce;
     settings.trace.bumpShadowing = o.bumpShadowing;
-    settings.trace.splitting = splittingMode(o.splitting);
+    settings.trace.splitting = effectiveSplitting(o);
     return settings;
 }
 

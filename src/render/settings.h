@@ -15,9 +15,13 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace symphong {
+
+/// `--splitting auto`, the default: ears where a render can learn, else none (effectiveSplitting).
+inline constexpr std::string_view kAutoSplitting = "auto";
 
 struct RenderOptions {
     std::string scene = "cornell";
@@ -34,7 +38,7 @@ struct RenderOptions {
     std::string varianceOutput;  ///< EXR of the per-pixel variance of the mean, for `symphong compare --variance`
     bool noNee = false;
     int split = 1;
-    std::string splitting = "none";
+    std::string splitting = std::string(kAutoSplitting);  ///< auto (effectiveSplitting), or a splittingNames() entry
     std::uint32_t firstBounceStream = 0;
     bool jointFirstBounce = false;
     bool bumpShadowing = false;
@@ -58,6 +62,17 @@ const schema::Schema<RenderOptions>& renderSchema();
 /// Checks that span fields or need the machine: the image's size (at most kMaxImagePixels, and its
 /// memory) and a finite exposure. Throws InputError.
 void checkRenderOptions(const RenderOptions& o);
+
+/// The splitting a render of these options uses: the named one, or for `auto` (the default) ears unless
+/// --split K > 1 or --joint-first-bounce is given (each is refused beside ears: the user chose the first
+/// hit's splitting or its pattern) or the render takes fewer than ears::kProbeMinSpp samples a pixel (too
+/// few to learn from: it would render all of them unlearned, splitting every first hit in two), then none.
+/// docs/estimators.md "Efficiency-aware splitting" has the measurements behind the default.
+SplittingMode effectiveSplitting(const RenderOptions& o);
+
+/// Writes effectiveSplitting's name over `auto`, so that what the render reports, and what identifies its
+/// checkpoint, is the splitting it used. Call after the scene's own settings are applied.
+void resolveSplitting(RenderOptions& o);
 
 /// The renderer's settings for these options.
 RenderSettings renderSettings(const RenderOptions& o);

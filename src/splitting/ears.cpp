@@ -22,6 +22,8 @@ SplittingMode splittingMode(const std::string& name) {
 
 void checkSplittingName(const std::string& name) { splittingMode(name); }
 
+const std::string& splittingName(SplittingMode m) { return splittingNames().at(static_cast<std::size_t>(m)); }
+
 namespace ears {
 
 namespace {

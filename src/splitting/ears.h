@@ -38,6 +38,8 @@ const std::vector<std::string>& splittingNames();
 /// The mode of a name; throws std::invalid_argument "unknown splitting 'x' (valid: none, ears, ears-orbit)".
 SplittingMode splittingMode(const std::string& name);
 void checkSplittingName(const std::string& name);
+/// The name of a mode (splittingNames()'s entry).
+const std::string& splittingName(SplittingMode m);
 
 namespace ears {
 
