@@ -384,7 +384,7 @@ TEST(StudyPilot, RendersEachVariantAsItsRepeatsDo) {
         EXPECT_EQ(rs.sampler, v.sampler);
         EXPECT_EQ(rs.trace.firstHitSplit, v.split) << v.label;
         EXPECT_EQ(rs.trace.splitting, v.splitting) << v.label;
-        EXPECT_EQ(pilotSpp(v), v.splitting == SplittingMode::None ? 2u : 2 * ears::kProbeMinSpp) << v.label;
+        EXPECT_EQ(pilotSpp(v.splitting), v.splitting == SplittingMode::None ? 2u : 2 * ears::kProbeMinSpp) << v.label;
         // The pilot: the variant's settings on a square of about its samples (at most one render of the
         // study's smallest: 40 x 30 x 4 here), at least kPilotMinSide a side.
         for (const std::vector<std::uint32_t>& spps : {std::vector<std::uint32_t>{4, 16}, std::vector<std::uint32_t>{64}}) {
@@ -395,7 +395,7 @@ TEST(StudyPilot, RendersEachVariantAsItsRepeatsDo) {
             const auto samplesAt = [&](int side) {
                 return static_cast<std::uint64_t>(side) * static_cast<std::uint64_t>(side) * pilot.spp;
             };
-            EXPECT_EQ(pilot.spp, pilotSpp(v));
+            EXPECT_EQ(pilot.spp, pilotSpp(v.splitting));
             EXPECT_EQ(pilot.width, pilot.height);
             EXPECT_EQ(pilot.trace.splitting, v.splitting);
             EXPECT_EQ(pilot.trace.firstHitSplit, v.split);
@@ -410,11 +410,31 @@ TEST(StudyPilot, RendersEachVariantAsItsRepeatsDo) {
     ASSERT_EQ(raysPerSample.size(), 3u);
     EXPECT_GT(raysPerSample["phong+ears"], 1.8 * raysPerSample["phong"]);
     EXPECT_GT(raysPerSample["phong+split8"], 2.5 * raysPerSample["phong"]);
-    const StudyVariant ref = referenceVariant(c);
-    EXPECT_EQ(ref.estimator, c.referenceEstimator);
-    EXPECT_EQ(ref.sampler, c.referenceSampler);
-    EXPECT_EQ(ref.splitting, SplittingMode::Ears);
-    EXPECT_GT(pilotRays(ref), 1.3 * raysPerSample["phong"]);
+    // The reference's pilot: its renders' settings (its sampler and splitting, never the joint pattern nor a
+    // first-hit split, which its render does not take either) at EARS's pilot spp.
+    StudyConfig joint = c;
+    joint.jointFirstBounce = true;
+    const RenderSettings refRenders = referenceRenderSettings(joint, 1024);
+    StudyConfig jointPlainReference = joint;
+    jointPlainReference.referenceSplitting = "none";  // a variant of these settings would take the joint pattern
+    EXPECT_FALSE(referenceRenderSettings(jointPlainReference, 1024).trace.jointFirstBounce);
+    EXPECT_FALSE(pilotRenderSettings(jointPlainReference, referenceRenderSettings(jointPlainReference, 1024)).trace.jointFirstBounce);
+    EXPECT_EQ(refRenders.spp, 1024u);
+    EXPECT_EQ(refRenders.sampler, c.referenceSampler);
+    EXPECT_EQ(refRenders.trace.splitting, SplittingMode::Ears);
+    EXPECT_EQ(refRenders.trace.firstHitSplit, 1);
+    EXPECT_FALSE(refRenders.trace.jointFirstBounce);
+    EXPECT_EQ(refRenders.width, 40);
+    EXPECT_EQ(refRenders.trace.maxDepth, 9);
+    const RenderSettings refPilot = pilotRenderSettings(joint, refRenders);
+    EXPECT_FALSE(refPilot.trace.jointFirstBounce);
+    EXPECT_EQ(refPilot.spp, 2 * ears::kProbeMinSpp);
+    EXPECT_EQ(refPilot.sampler, c.referenceSampler);
+    StudyVariant plain;
+    plain.estimator = "phong";
+    EXPECT_TRUE(pilotRenderSettings(joint, plain).trace.jointFirstBounce) << "a variant's pilot takes the study's joint pattern";
+    const RenderResult refResult = render(scene, accel, *makeEstimator(c.referenceEstimator, c.options), refPilot);
+    EXPECT_GT(static_cast<double>(refResult.stats.rays) / static_cast<double>(refResult.stats.samples), 1.3 * raysPerSample["phong"]);
     // The pilot before: EARS at 2 samples a pixel, no probe, no learned first-hit factor.
     const std::vector<StudyVariant> variants = studyVariants(c);
     const auto ears = std::find_if(variants.begin(), variants.end(), [](const StudyVariant& v) { return v.label == "phong+ears"; });

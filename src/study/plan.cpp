@@ -208,19 +208,19 @@ RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v
     return rs;
 }
 
-StudyVariant referenceVariant(const StudyConfig& c) {
-    StudyVariant v;
-    v.estimator = c.referenceEstimator;
-    v.sampler = c.referenceSampler;
-    v.label = referenceMethod(c);
-    v.splitting = splittingMode(c.referenceSplitting);
-    return v;
+RenderSettings referenceRenderSettings(const StudyConfig& c, std::uint32_t spp) {
+    RenderSettings rs = studyRenderSettings(c);
+    rs.spp = spp;
+    rs.sampler = c.referenceSampler;
+    rs.trace.splitting = splittingMode(c.referenceSplitting);
+    return rs;
 }
 
-std::uint32_t pilotSpp(const StudyVariant& v) { return learnsFactors(v.splitting) ? 2 * ears::kProbeMinSpp : 2; }
+std::uint32_t pilotSpp(SplittingMode splitting) { return learnsFactors(splitting) ? 2 * ears::kProbeMinSpp : 2; }
 
-RenderSettings pilotRenderSettings(const StudyConfig& c, const StudyVariant& v) {
-    RenderSettings pilot = variantRenderSettings(c, v, pilotSpp(v));
+RenderSettings pilotRenderSettings(const StudyConfig& c, RenderSettings renders) {
+    RenderSettings pilot = std::move(renders);
+    pilot.spp = pilotSpp(pilot.trace.splitting);
     std::uint64_t samples = kPilotSamples;
     if (!c.spps.empty())
         samples = std::min(samples, static_cast<std::uint64_t>(c.width) * static_cast<std::uint64_t>(c.height) *
@@ -229,6 +229,10 @@ RenderSettings pilotRenderSettings(const StudyConfig& c, const StudyVariant& v) 
     pilot.width = pilot.height = std::max(kPilotMinSide, static_cast<int>(std::ceil(std::sqrt(pixels))));
     pilot.seed = 99;
     return pilot;
+}
+
+RenderSettings pilotRenderSettings(const StudyConfig& c, const StudyVariant& v) {
+    return pilotRenderSettings(c, variantRenderSettings(c, v, pilotSpp(v.splitting)));
 }
 
 }  // namespace symphong

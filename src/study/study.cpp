@@ -93,8 +93,7 @@ public:
 
 private:
     void prepare();
-    RenderSettings base() const;
-    double pilotCost(const StudyVariant& variant, const EstimatorOptions& options) const;
+    double pilotCost(const RenderSettings& pilot, const std::string& estimator, const EstimatorOptions& options) const;
     double plannedWork();
     bool renderReference();
     /// The repeats of every variant at one spp (and their variance budget at the top spp); false when cancelled.
@@ -161,20 +160,13 @@ void StudyRun::prepare() {
     accel_ = std::make_unique<Accel>(scene_);
 }
 
-RenderSettings StudyRun::base() const {
-    RenderSettings base = studyRenderSettings(c_);
-    base.cancel = cancel_;
-    return base;
-}
-
 // CPU time per camera sample of a variant (or the reference), from a small pilot render with its settings,
 // so that the progress bar's ETA accounts for estimators that trace 24 paths per sample, first-hit splits
 // and EARS (pilotRenderSettings). CPU time, not wall: a render this small keeps the threads only partly busy
 // (on sky-n10, the pilots' EARS / phong ratio by wall time swung 1.5-2.9 between runs, by CPU time 3.2,
 // where the study's 128x96 renders take 4.3 times phong's time); the bar only needs the costs' proportions.
-double StudyRun::pilotCost(const StudyVariant& variant, const EstimatorOptions& options) const {
-    const RenderSettings pilot = pilotRenderSettings(c_, variant);
-    const auto est = makeEstimator(variant.estimator, options);
+double StudyRun::pilotCost(const RenderSettings& pilot, const std::string& estimator, const EstimatorOptions& options) const {
+    const auto est = makeEstimator(estimator, options);
     const RenderResult r = render(scene_, *accel_, *est, pilot);
     return std::max(1e-9, r.stats.cpuSeconds / static_cast<double>(r.stats.samples));
 }
@@ -185,10 +177,12 @@ double StudyRun::plannedWork() {
     double total = 0;
     if (writer_)
         for (const auto& v : variants_) {
-            cost_[v.label] = pilotCost(v, variantOptions(c_, v));
+            cost_[v.label] = pilotCost(pilotRenderSettings(c_, v), v.estimator, variantOptions(c_, v));
             for (auto s : c_.spps) total += cost_[v.label] * s * c_.width * c_.height * c_.repeats;
         }
-    const double refCost = ref_.have || !writer_ ? 0.0 : pilotCost(referenceVariant(c_), c_.options);
+    const double refCost = ref_.have || !writer_ ? 0.0
+                                                 : pilotCost(pilotRenderSettings(c_, referenceRenderSettings(c_, c_.referenceSpp)),
+                                                             c_.referenceEstimator, c_.options);
     progress_.currentCost = refCost;
     return total + refCost * c_.referenceSpp * c_.width * c_.height;
 }
@@ -199,11 +193,9 @@ double StudyRun::plannedWork() {
 bool StudyRun::renderReference() {
     const double refWork = progress_.currentCost * c_.referenceSpp * c_.width * c_.height;
     if (!ref_.have) {
-        RenderSettings rs = base();
-        rs.spp = c_.referenceSpp;
+        RenderSettings rs = referenceRenderSettings(c_, c_.referenceSpp);
+        rs.cancel = cancel_;
         rs.seed = mixSeed(c_.seed, 0xFEFE);
-        rs.sampler = c_.referenceSampler;
-        rs.trace.splitting = splittingMode(c_.referenceSplitting);
         const auto est = makeEstimator(c_.referenceEstimator, c_.options);
         StopRules rules;
         rules.targetError = c_.referenceError;

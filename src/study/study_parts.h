@@ -41,21 +41,24 @@ RenderSettings studyRenderSettings(const StudyConfig& c);
 /// first-hit split and splitting (its repeats, variance budget and pilot all render with them); no seed, no
 /// cancel.
 RenderSettings variantRenderSettings(const StudyConfig& c, const StudyVariant& v, std::uint32_t spp);
-/// The reference's method as a variant (its estimator, sampler and splitting) for variantRenderSettings.
-StudyVariant referenceVariant(const StudyConfig& c);
+/// The settings of the reference's render at `spp`: studyRenderSettings and the reference's sampler and
+/// splitting; never a first-hit split nor the joint pattern (its key has neither); no seed, no cancel.
+RenderSettings referenceRenderSettings(const StudyConfig& c, std::uint32_t spp);
 /// Camera samples a pixel of the pilot render that estimates a variant's CPU time per camera sample for the
 /// progress bar: 2, or ears::kProbeMinSpp x 2 for a variant that learns EARS factors, so that its probe runs
 /// and its first epochs split as a render of the study would (on the smooth-sky scene sky-n10 it traces twice
 /// phong's rays a sample at 16, 1.4 times at 2, where a 64-spp render of the study traces 3.3 times).
-std::uint32_t pilotSpp(const StudyVariant& v);
+std::uint32_t pilotSpp(SplittingMode splitting);
 /// The pilot's camera samples: kPilotSamples, or fewer in a study whose renders are smaller (as many as its
 /// smallest render: the pilot costs no more than a repeat), but never under kPilotMinSide pixels a side. A
 /// pilot of a millisecond or two was mostly the render's fixed start (its tracer, tiles and threads), which
 /// pulled every variant's estimate towards the same cost.
 inline constexpr std::uint64_t kPilotSamples = 16384;
 inline constexpr int kPilotMinSide = 24;
-/// The pilot's settings: variantRenderSettings at pilotSpp, on a square image of about the pilot's samples
-/// (at least kPilotMinSide pixels a side), seed 99.
+/// The pilot of renders with settings `renders` (a variant's or the reference's): the same settings at
+/// pilotSpp, on a square image of about the pilot's samples (at least kPilotMinSide pixels a side), seed 99.
+RenderSettings pilotRenderSettings(const StudyConfig& c, RenderSettings renders);
+/// The pilot of a variant: of variantRenderSettings.
 RenderSettings pilotRenderSettings(const StudyConfig& c, const StudyVariant& v);
 
 // ---- reference.cpp
