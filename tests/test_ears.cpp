@@ -5,6 +5,7 @@
 // scene, 4 sigma), determinism across threads and passes, a checkpoint's round trip, and bad values.
 #include "ears_settings.h"
 #include "render/checkpoint.h"
+#include "render/settings.h"
 #include "sample_util.h"
 #include "sampling/warp.h"
 #include "stats.h"
@@ -858,8 +859,8 @@ TEST(EarsCheckpoint, ResumesInsideAnEpochBitForBit) {
     EXPECT_TRUE(sameBits(whole.variance(), resumed.variance()));
 }
 
-// The default, --splitting auto, renders what --splitting ears renders where a render can learn, and what
-// --splitting none renders where --split, --joint-first-bounce or too few samples rule it out; the summary
+// The default, --splitting auto, renders what --splitting ears renders from kAutoSplittingMinSpp samples on, and
+// what --splitting none renders where --split, --joint-first-bounce or fewer samples rule it out; the summary
 // line names the one used, and the scene file's own settings count as the user's.
 TEST(EarsCli, TheDefaultSplittingIsEarsWhereItCanLearn) {
     const test::TempDir tmp;
@@ -872,21 +873,22 @@ TEST(EarsCli, TheDefaultSplittingIsEarsWhereItCanLearn) {
         EXPECT_EQ(r.code, 0) << name << ": " << r.err;
         return std::make_pair(readExr(tmp.file(name + ".exr")), r.out);
     };
-    const auto [autoImage, autoOut] = render("auto", {"--spp", "16"});
-    const auto [earsImage, earsOut] = render("ears", {"--spp", "16", "--splitting", "ears"});
-    const auto [noneImage, noneOut] = render("none", {"--spp", "16", "--splitting", "none"});
+    const std::string spp = std::to_string(kAutoSplittingMinSpp), fewer = std::to_string(kAutoSplittingMinSpp - 1);
+    const auto [autoImage, autoOut] = render("auto", {"--spp", spp});
+    const auto [earsImage, earsOut] = render("ears", {"--spp", spp, "--splitting", "ears"});
+    const auto [noneImage, noneOut] = render("none", {"--spp", spp, "--splitting", "none"});
     EXPECT_TRUE(sameBits(autoImage, earsImage));
     EXPECT_FALSE(sameBits(autoImage, noneImage));
     EXPECT_NE(autoOut.find("splitting ears:"), std::string::npos) << autoOut;
     EXPECT_NE(noneOut.find("splitting none:"), std::string::npos) << noneOut;
-    const auto [splitAuto, splitOut] = render("split-auto", {"--spp", "16", "--split", "2"});
-    const auto [splitNone, unused1] = render("split-none", {"--spp", "16", "--split", "2", "--splitting", "none"});
+    const auto [splitAuto, splitOut] = render("split-auto", {"--spp", spp, "--split", "2"});
+    const auto [splitNone, unused1] = render("split-none", {"--spp", spp, "--split", "2", "--splitting", "none"});
     EXPECT_TRUE(sameBits(splitAuto, splitNone));
     EXPECT_NE(splitOut.find("splitting none:"), std::string::npos) << splitOut;
-    const auto [fewAuto, fewOut] = render("few-auto", {"--spp", std::to_string(ears::kProbeMinSpp - 1)});
-    const auto [fewNone, unused2] = render("few-none", {"--spp", std::to_string(ears::kProbeMinSpp - 1), "--splitting", "none"});
+    const auto [fewAuto, fewOut] = render("few-auto", {"--spp", fewer});
+    const auto [fewNone, unused2] = render("few-none", {"--spp", fewer, "--splitting", "none"});
     EXPECT_TRUE(sameBits(fewAuto, fewNone));
-    const std::string scene = tmp.write("s.json", R"({"builtin": "cornell", "render": {"spp": 16, "split": 2}})");
+    const std::string scene = tmp.write("s.json", R"({"builtin": "cornell", "render": {"spp": 64, "split": 2}})");
     const test::CliRun r =
         test::runCliArgs({"render", scene, "-W", "24", "-H", "18", "--seed", "4", "-t", "2", "-o", tmp.file("scene.exr")});
     ASSERT_EQ(r.code, 0) << r.err;

@@ -7,7 +7,6 @@
 #include "io/input_error.h"
 #include "render/settings.h"
 #include "scene/scene.h"
-#include "splitting/learning.h"
 #include "study/config.h"
 
 #include <gtest/gtest.h>
@@ -90,9 +89,9 @@ TEST(Schema, SplittingAutoIsEarsWhereARenderCanLearnElseNone) {
     EXPECT_EQ(effectiveSplitting(joint), SplittingMode::None);
     EXPECT_NO_THROW(checkRenderOptions(joint));
     RenderOptions few = o;
-    few.spp = ears::kProbeMinSpp - 1;  // no probe: every sample would render unlearned
+    few.spp = kAutoSplittingMinSpp - 1;  // too few samples for learning to pay
     EXPECT_EQ(effectiveSplitting(few), SplittingMode::None);
-    few.spp = ears::kProbeMinSpp;
+    few.spp = kAutoSplittingMinSpp;
     EXPECT_EQ(effectiveSplitting(few), SplittingMode::Ears);
     // A name given is the name used, whatever the other settings.
     for (const std::string& name : splittingNames()) {

@@ -3,7 +3,6 @@
 #include "estimators/options.h"
 #include "io/input_error.h"
 #include "sampling/sampler_registry.h"
-#include "splitting/learning.h"
 
 #include <fmt/format.h>
 
@@ -36,11 +35,12 @@ void checkRenderSplittingName(const std::string& name) {
 std::string splittingHelp() {
     return fmt::format(
         "continuations per path vertex: auto (the default: ears, but none with --split K > 1, with --joint-first-bounce or below {} "
-        "spp, too few samples to learn from), none (one, Russian roulette by throughput), ears (efficiency-aware Russian roulette "
+        "spp, too few samples for its learning to pay), none (one, Russian roulette by throughput), ears (efficiency-aware Russian "
+        "roulette "
         "and splitting, Rath et al. 2022: factors learned per region of the scene from the render's own earlier samples, at every "
         "vertex; docs/estimators.md) or ears-orbit (the same, a first hit's 2, 4 or 8 continuations one orbit of symmetric copies, "
         "symmetric-mix's; needs --estimator phong)",
-        ears::kProbeMinSpp);
+        kAutoSplittingMinSpp);
 }
 
 /// Passes, stop rules and checkpoints: none of them changes a pixel's value, only how many samples are
@@ -225,7 +225,7 @@ StopRules stopRules(const RenderOptions& o) {
 
 SplittingMode effectiveSplitting(const RenderOptions& o) {
     if (o.splitting != kAutoSplitting) return splittingMode(o.splitting);
-    const bool learns = o.split <= 1 && !o.jointFirstBounce && o.spp >= ears::kProbeMinSpp;
+    const bool learns = o.split <= 1 && !o.jointFirstBounce && o.spp >= kAutoSplittingMinSpp;
     return learns ? SplittingMode::Ears : SplittingMode::None;
 }
 

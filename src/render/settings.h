@@ -22,6 +22,11 @@ namespace symphong {
 
 /// `--splitting auto`, the default: ears where a render can learn, else none (effectiveSplitting).
 inline constexpr std::string_view kAutoSplitting = "auto";
+/// The fewest samples a pixel with which `auto` learns: below them EARS's learning (its probe, the epochs that
+/// record, its table) is not paid back. Against plain phong at 128x96 (scripts/ears-study.sh, five scenes): at 8
+/// spp 0.71x-0.81x on all but the smooth sky (2.27x), at 16 0.83x-0.89x, at 32 0.90x-0.93x (the default box
+/// 1.11x); at 64 the ties 0.95x-0.98x, the default box 1.08x (docs/performance.md "EARS as the default").
+inline constexpr std::uint32_t kAutoSplittingMinSpp = 64;
 
 struct RenderOptions {
     std::string scene = "cornell";
@@ -65,8 +70,8 @@ void checkRenderOptions(const RenderOptions& o);
 
 /// The splitting a render of these options uses: the named one, or for `auto` (the default) ears unless
 /// --split K > 1 or --joint-first-bounce is given (each is refused beside ears: the user chose the first
-/// hit's splitting or its pattern) or the render takes fewer than ears::kProbeMinSpp samples a pixel (too
-/// few to learn from: it would render all of them unlearned, splitting every first hit in two), then none.
+/// hit's splitting or its pattern) or the render takes fewer than kAutoSplittingMinSpp samples a pixel (too
+/// few for its learning to pay), then none.
 /// docs/estimators.md "Efficiency-aware splitting" has the measurements behind the default.
 SplittingMode effectiveSplitting(const RenderOptions& o);
 

@@ -29,20 +29,20 @@ def test_stats(sym):
 
 
 def test_default_splitting_is_reported_and_is_the_command_lines(sym, cli, tmp_path):
-    """splitting="auto" (the default) learns EARS factors from 8 spp on, as `symphong render` does; stats
+    """splitting="auto" (the default) learns EARS factors from 64 spp on, as `symphong render` does; stats
     name the splitting used."""
     out = tmp_path / "cli.exr"
-    cli("render", "cornell", "--spp", 8, "-W", 21, "-H", 13, "--seed", 3, "-o", out)
-    img, stats = sym.render("cornell", spp=8, width=21, height=13, seed=3)
+    cli("render", "cornell", "--spp", 64, "-W", 21, "-H", 13, "--seed", 3, "-o", out)
+    img, stats = sym.render("cornell", spp=64, width=21, height=13, seed=3)
     assert stats["splitting"] == "ears"
     assert img.tobytes() == sym.read_image(str(out)).tobytes()
-    ears, _ = sym.render("cornell", spp=8, width=21, height=13, seed=3, splitting="ears")
-    plain, plain_stats = sym.render("cornell", spp=8, width=21, height=13, seed=3, splitting="none")
+    ears, _ = sym.render("cornell", spp=64, width=21, height=13, seed=3, splitting="ears")
+    plain, plain_stats = sym.render("cornell", spp=64, width=21, height=13, seed=3, splitting="none")
     assert img.tobytes() == ears.tobytes() and img.tobytes() != plain.tobytes()
     assert plain_stats["splitting"] == "none"
-    assert sym.render("cornell", spp=7, width=21, height=13)[1]["splitting"] == "none"
-    assert sym.render("cornell", spp=8, width=21, height=13, split=2)[1]["splitting"] == "none"
-    p = sym.Progressive("cornell", spp=8, width=21, height=13)
+    assert sym.render("cornell", spp=63, width=21, height=13)[1]["splitting"] == "none"
+    assert sym.render("cornell", spp=64, width=21, height=13, split=2)[1]["splitting"] == "none"
+    p = sym.Progressive("cornell", spp=64, width=21, height=13)
     assert p.stats()["splitting"] == "ears"
 
 
