@@ -91,9 +91,8 @@ int renderInPasses(const RenderOptions& o, const Scene& scene, const Estimator& 
     if (state.badSamples > 0) fmt::print(stderr, "symphong: warning: {} non-finite path contributions were discarded\n", state.badSamples);
     const double runSeconds = std::max(state.seconds - run.secondsBefore, 1e-9);
     fmt::print(
-        "{}: {}x{}, {} of {} spp ({}), relative error of the mean {:.3g}%, estimator {}, sampler {}, splitting {}{}: {:.2f} s{}, {:.2f} "
-        "Mrays/s{} -> "
-        "{}\n",
+        "{}: {}x{}, {} of {} spp ({}), relative error of the mean {:.3g}%, estimator {}, sampler {}, splitting {}{}: "
+        "{:.2f} s{}, {:.2f} Mrays/s{} -> {}\n",
         scene.name, o.width, o.height, state.samplesReached(), o.spp, stopText(run.why, o), 100 * run.error, estimator.name(),
         effectiveSampler(estimator, o.sampler), o.splitting, job.size() > 1 ? fmt::format(", {} ranks", job.size()) : "", state.seconds,
         run.secondsBefore > 0 ? fmt::format(" ({:.2f} s in this run)", state.seconds - run.secondsBefore) : "",

@@ -26,20 +26,18 @@ std::vector<std::string> renderSplittingNames() {
 }
 
 void checkRenderSplittingName(const std::string& name) {
-    if (name == kAutoSplitting) return;
-    const std::vector<std::string> names = splittingNames();
+    const std::vector<std::string> names = renderSplittingNames();
     if (std::find(names.begin(), names.end(), name) == names.end())
-        throw std::invalid_argument(fmt::format("unknown splitting '{}' (valid: {})", name, fmt::join(renderSplittingNames(), ", ")));
+        throw std::invalid_argument(fmt::format("unknown splitting '{}' (valid: {})", name, fmt::join(names, ", ")));
 }
 
 std::string splittingHelp() {
     return fmt::format(
-        "continuations per path vertex: auto (the default: ears, but none with --split K > 1, with --joint-first-bounce or below {} "
-        "spp, too few samples for its learning to pay), none (one, Russian roulette by throughput), ears (efficiency-aware Russian "
-        "roulette "
-        "and splitting, Rath et al. 2022: factors learned per region of the scene from the render's own earlier samples, at every "
-        "vertex; docs/estimators.md) or ears-orbit (the same, a first hit's 2, 4 or 8 continuations one orbit of symmetric copies, "
-        "symmetric-mix's; needs --estimator phong)",
+        "continuations per path vertex: auto (the default: ears, but none with --split K > 1, with --joint-first-bounce or "
+        "below {} spp, too few samples for its learning to pay), none (one, Russian roulette by throughput), ears "
+        "(efficiency-aware Russian roulette and splitting, Rath et al. 2022: factors learned per region of the scene from the "
+        "render's own earlier samples, at every vertex; docs/estimators.md) or ears-orbit (the same, a first hit's 2, 4 or 8 "
+        "continuations one orbit of symmetric copies, symmetric-mix's; needs --estimator phong)",
         kAutoSplittingMinSpp);
 }
 
