@@ -294,3 +294,38 @@ TEST(Schema, ASceneFilesRenderSettingsApplyUnderTheUsersOwn) {
     EXPECT_THROW(loadScene(path), InputError);
     std::filesystem::remove_all(dir);
 }
+
+// What every front end calls once the scene is loaded: `auto` is resolved from the settings the scene file
+// adds, not from the options before it (a scene's own 16 spp or "split": 2 rule EARS out), a name the user
+// gave stays, and a pair the checks refuse is refused whether it came from the scene or the user.
+TEST(Schema, FinishRenderOptionsResolvesAutoAfterTheScenesOwnSettings) {
+    const auto dir = std::filesystem::temp_directory_path() / ("symphong-schema-finish-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "s.json").string();
+    const auto finished = [&](const std::string& render, RenderOptions o, const std::set<std::string>& given) {
+        {
+            std::ofstream f(path);
+            f << R"({"builtin": "cornell", "render": )" << render << "}";
+        }
+        finishRenderOptions(o, loadScene(path), path, given);
+        return o;
+    };
+    EXPECT_EQ(finished(R"({"width": 20})", RenderOptions{}, {}).splitting, "ears") << "64 spp by default: learns";
+    EXPECT_EQ(finished(R"({"spp": 16})", RenderOptions{}, {}).splitting, "none") << "the scene's 16 spp are too few";
+    EXPECT_EQ(finished(R"({"split": 2})", RenderOptions{}, {}).splitting, "none") << "the scene chose the first hit's split";
+    RenderOptions many;
+    many.spp = 128;  // the user's spp rule over the scene's 16
+    EXPECT_EQ(finished(R"({"spp": 16})", many, {"spp"}).splitting, "ears");
+    RenderOptions named;
+    named.splitting = "none";
+    EXPECT_EQ(finished(R"({"width": 20})", named, {"splitting"}).splitting, "none");
+    RenderOptions ears;
+    ears.splitting = "ears";
+    try {
+        finished(R"({"split": 2})", ears, {"splitting"});
+        FAIL() << "the scene's split 2 beside the user's ears accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("--split 2 and --splitting ears"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove_all(dir);
+}

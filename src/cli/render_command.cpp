@@ -64,15 +64,11 @@ int runRender(const RenderOptions& given, const std::set<std::string>& givenKeys
     std::string output;
     RenderOptions o = given;
     try {
-        checkRenderOptions(o);
+        checkRenderOptions(o);  // before the scene's load: a bad option fails at once
         estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
         scene = loadScene(o.scene);
-        if (!scene.renderSettings.empty()) {  // the scene's own settings, under the command line's
-            applySceneSettings(o, scene, o.scene, givenKeys);
-            checkRenderOptions(o);
-            estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
-        }
-        resolveSplitting(o);
+        finishRenderOptions(o, scene, o.scene, givenKeys);  // the scene's own settings, under the command line's
+        if (!scene.renderSettings.empty()) estimator = estimatorOrInputError(o.estimator, o.estimatorOptions);
         output = o.output.empty() ? fmt::format("out/{}.png", scene.name) : o.output;
         if (job.root()) checkWritable(output);
         if (job.root() && !o.varianceOutput.empty()) checkVarianceOutput(o.varianceOutput);

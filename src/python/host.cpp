@@ -99,9 +99,7 @@ public:
     Progressive(std::shared_ptr<PyScene> scene, const py::kwargs& given) : scene_(std::move(scene)) {
         py::dict kwargs = py::dict(given);
         pyschema::applyKwargs(options_, renderSchema(), kwargs, "Progressive");
-        applySceneSettings(options_, scene_->scene(), scene_->spec(), pyschema::givenKeys(renderSchema(), kwargs));
-        checkRenderOptions(options_);
-        resolveSplitting(options_);
+        finishRenderOptions(options_, scene_->scene(), scene_->spec(), pyschema::givenKeys(renderSchema(), kwargs));
         if (options_.progressive())
             throw InputError(
                 "Progressive: time, target_error, pass_spp, checkpoint and resume are render()'s; here each advance() is a pass");

@@ -49,9 +49,7 @@ py::tuple renderPy(const py::object& sceneArg, const py::kwargs& given) {
     RenderOptions o;
     pyschema::applyKwargs(o, renderSchema(), kwargs, "render");
     const std::shared_ptr<PyScene> scene = sceneArgument(sceneArg);
-    applySceneSettings(o, scene->scene(), scene->spec(), pyschema::givenKeys(renderSchema(), kwargs));
-    checkRenderOptions(o);
-    resolveSplitting(o);
+    finishRenderOptions(o, scene->scene(), scene->spec(), pyschema::givenKeys(renderSchema(), kwargs));
     std::unique_ptr<Estimator> estimator;
     try {
         estimator = makeEstimator(o.estimator, o.estimatorOptions);

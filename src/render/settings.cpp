@@ -182,6 +182,12 @@ void applySceneSettings(RenderOptions& o, const Scene& scene, const std::string&
     }
 }
 
+void finishRenderOptions(RenderOptions& o, const Scene& scene, const std::string& spec, const std::set<std::string>& given) {
+    applySceneSettings(o, scene, spec, given);
+    checkRenderOptions(o);
+    resolveSplitting(o);
+}
+
 void checkRenderOptions(const RenderOptions& o) {
     if (static_cast<long>(o.width) * o.height > kMaxImagePixels)
         throw InputError(fmt::format("image size {}x{} is too large (at most {} pixels)", o.width, o.height, kMaxImagePixels));

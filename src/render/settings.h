@@ -92,6 +92,12 @@ StopRules stopRules(const RenderOptions& o);
 /// scene file ("scene.json: \"render\": spp: out of range (got 0)").
 void applySceneSettings(RenderOptions& o, const Scene& scene, const std::string& spec, const std::set<std::string>& given);
 
+/// The options a render of `scene` runs with, as every front end (the command line, Python's render() and
+/// Progressive) makes them once the scene is loaded: the scene's own settings under the given ones
+/// (applySceneSettings), the checks (checkRenderOptions), then `auto` resolved (resolveSplitting), in that
+/// order, since the rule of `auto` reads the spp and the first hit's options that the scene may set.
+void finishRenderOptions(RenderOptions& o, const Scene& scene, const std::string& spec, const std::set<std::string>& given);
+
 /// Throws std::invalid_argument "unknown sampler 'x' (valid: ...)" unless `name` is a sampler.
 void checkSamplerName(const std::string& name);
 
