@@ -5,6 +5,9 @@
 //   Sample1D / Sample2D — sampler.sample1D/sample2D(pixel, index, dim): includes hashing (seed, pixel);
 //   Value1D / Value2D   — sampler.value1D/value2D(key, index, spp, dim) with the pixel key hashed once per
 //                         pixel, as SampleStream (what estimators and the path tracer draw from) does.
+//   PairsOfSixteenPaths — SobolSampler::pairValue of 16 paths (16 pixels, the same sample and dimension): one
+//                         call a path, as the path tracer asks, against one loop over the 16 (a wavefront's
+//                         sampler stage written plainly, what the compiler makes of it; _avx2 with AVX2 allowed).
 #include "sampling/lowdiscrepancy.h"
 #include "sampling/sampler.h"
 
@@ -159,6 +162,77 @@ void BM_PermutePowerOfTwo(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 
+// The pairs of 16 paths: pixel keys of 16 pixels, sample k mod 64, dimension (k / 64) mod 32 times 2.
+struct SixteenPaths {
+    std::uint64_t key[16];
+    std::uint32_t index[16];
+    double u[16], v[16];
+    explicit SixteenPaths(std::uint64_t k) {
+        for (int i = 0; i < 16; ++i) {
+            key[i] = (pixelOf(k) * 16 + static_cast<std::uint64_t>(i)) * 0x9E3779B97F4A7C15ull;  // cheap: the pairs are measured
+            index[i] = indexOf(k);
+        }
+    }
+};
+
+[[gnu::noinline]] void pairsInOneLoop(SixteenPaths& p, std::uint64_t dim) {
+    for (int i = 0; i < 16; ++i) {
+        const Point2 q = SobolSampler::pairValue(p.key[i], p.index[i], kSpp, dim);
+        p.u[i] = q.u;
+        p.v[i] = q.v;
+    }
+}
+
+[[gnu::noinline, gnu::target("avx2,bmi2")]] void pairsInOneLoopAvx2(SixteenPaths& p, std::uint64_t dim) {
+    for (int i = 0; i < 16; ++i) {
+        const Point2 q = SobolSampler::pairValue(p.key[i], p.index[i], kSpp, dim);
+        p.u[i] = q.u;
+        p.v[i] = q.v;
+    }
+}
+
+void BM_PairsOfSixteenPaths_OneCallAPath(benchmark::State& state) {
+    std::uint64_t k = 0;
+    for (auto _ : state) {
+        SixteenPaths p(k);
+        for (int i = 0; i < 16; ++i) {
+            const Point2 q = SobolSampler::pairValue(p.key[i], p.index[i], kSpp, 2 * dimOf(k));
+            benchmark::DoNotOptimize(q);
+        }
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations() * 16);
+}
+
+template <void (*Loop)(SixteenPaths&, std::uint64_t)>
+void BM_PairsOfSixteenPaths_OneLoop(benchmark::State& state) {
+    // The loop's values are the calls' (checked once: a benchmark of other values would measure nothing).
+    SixteenPaths check(12345);
+    Loop(check, 6);
+    for (int i = 0; i < 16; ++i)
+        if (Point2 q = SobolSampler::pairValue(check.key[i], check.index[i], kSpp, 6); q.u != check.u[i] || q.v != check.v[i]) {
+            state.SkipWithError("the loop's values differ from pairValue's");
+            return;
+        }
+    std::uint64_t k = 0;
+    for (auto _ : state) {
+        SixteenPaths p(k);
+        Loop(p, 2 * dimOf(k));
+        benchmark::DoNotOptimize(p.u);
+        benchmark::DoNotOptimize(p.v);
+        ++k;
+    }
+    state.SetItemsProcessed(state.iterations() * 16);
+}
+
+void BM_PairsOfSixteenPaths_OneLoop_avx2(benchmark::State& state) {
+    if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("bmi2")) {
+        state.SkipWithError("this CPU has no AVX2");
+        return;
+    }
+    BM_PairsOfSixteenPaths_OneLoop<pairsInOneLoopAvx2>(state);
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_Sample1D, independent, std::string("independent"));
@@ -182,3 +256,6 @@ BENCHMARK(BM_SobolDimension1Loop_Full32);
 BENCHMARK(BM_Hash32);
 BENCHMARK(BM_PermuteIndex)->Arg(64)->Arg(100);
 BENCHMARK(BM_PermutePowerOfTwo)->Arg(6);
+BENCHMARK(BM_PairsOfSixteenPaths_OneCallAPath);
+BENCHMARK(BM_PairsOfSixteenPaths_OneLoop<pairsInOneLoop>)->Name("BM_PairsOfSixteenPaths_OneLoop");
+BENCHMARK(BM_PairsOfSixteenPaths_OneLoop_avx2);
