@@ -1,5 +1,6 @@
-// accel/: the bundle query (16-wide packets) answers as the single-ray query does, ray by ray, at every
-// bundle size around the packet width, for rays that hit and rays that leave the scene.
+// accel/: the bundle query (16-wide packets) and the query of rays of their own origins (intersectEach)
+// answer as the single-ray query does, ray by ray, at every bundle size around the packet width, for rays
+// that hit and rays that leave the scene.
 #include "accel/accel.h"
 #include "sampling/rng.h"
 #include "test_util.h"
@@ -64,6 +65,41 @@ TEST(Accel, BundleMatchesSingleRaysOnTheBunny) {
     const Scene bunny = loadScene(test::scenesDir() + "/bunny/stanford-bunny.obj");
     expectBundleMatchesSingleRays(bunny, 2, false);
     expectBundleMatchesSingleRays(bunny, 2, true);
+}
+
+// intersectEach traces rays of their own origins one by one with its own copy of intersect()'s query: the same
+// answers bit for bit, rays that hit and rays that leave the box alike.
+TEST(Accel, EachRayOfItsOwnOriginAnswersAsIntersectDoes) {
+    Scene s = makeCornellBox();
+    finalizeScene(s, "cornell", false);
+    const Accel accel(s);
+    Vec3 lo, hi;
+    s.bounds(lo, hi);
+    Rng rng(4, 3);
+    const std::size_t n = 200;
+    std::vector<Vec3> origins(n), dirs(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        origins[i] = Vec3(lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(), lo.z + (hi.z - lo.z) * rng.uniform());
+        const double z = 1 - 2 * rng.uniform(), phi = kTwoPi * rng.uniform(), r = std::sqrt(1 - z * z);
+        dirs[i] = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+    }
+    std::vector<Hit> hits(n);
+    auto found = std::make_unique<bool[]>(n);
+    accel.intersectEach(origins.data(), dirs.data(), n, 1e-4, hits.data(), found.get());
+    std::size_t hitsSeen = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        Hit single;
+        const bool f = accel.intersect(origins[i], dirs[i], 1e-4, std::numeric_limits<double>::infinity(), single);
+        ASSERT_EQ(found[i], f) << "ray " << i;
+        if (!f) continue;
+        ++hitsSeen;
+        EXPECT_EQ(hits[i].prim, single.prim) << "ray " << i;
+        EXPECT_EQ(hits[i].t, single.t) << "ray " << i;
+        EXPECT_EQ(hits[i].u, single.u) << "ray " << i;
+        EXPECT_EQ(hits[i].v, single.v) << "ray " << i;
+    }
+    EXPECT_GT(hitsSeen, n / 2);  // the open box: most rays from inside hit a wall
+    EXPECT_LT(hitsSeen, n) << "and some leave it";
 }
 
 }  // namespace

@@ -74,7 +74,10 @@ Accel::~Accel() {
     if (device_) rtcReleaseDevice(device_);
 }
 
-bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, Hit& hit) const {
+namespace {
+
+[[gnu::always_inline]] inline bool closestHit(RTCScene scene, std::vector<RayQuery>* log, const Vec3& o, const Vec3& d, double tnear,
+                                              double tfar, Hit& hit) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -92,16 +95,27 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    if (log_) [[unlikely]]
-        log_->push_back(
+    if (log) [[unlikely]]
+        log->push_back(
             {{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, rh.ray.tnear, rh.ray.tfar, false});
-    rtcIntersect1(scene_, &ctx, &rh);
+    rtcIntersect1(scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
     hit.prim = rh.hit.primID;
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     return true;
+}
+
+}  // namespace
+
+bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, Hit& hit) const {
+    return closestHit(scene_, log_, o, d, tnear, tfar, hit);
+}
+
+void Accel::intersectEach(const Vec3* o, const Vec3* d, std::size_t n, double tnear, Hit* hits, bool* found) const {
+    for (std::size_t i = 0; i < n; ++i)
+        found[i] = closestHit(scene_, log_, o[i], d[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
 }
 
 void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found, bool coherent) const {

@@ -42,6 +42,10 @@ public:
 
     /// Closest hit along o + t d, t in (tnear, tfar). d need not be unit length.
     bool intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, Hit& hit) const;
+    /// intersect() of n rays o[i] + t d[i], t in (tnear, inf), one by one (rays that do not share an origin:
+    /// a wavefront's bounce rays): found[i] whether ray i hit, hits[i] its hit. The same answers, bit for bit.
+    /// Its own copy of the query, so that the path tracer's single call of intersect() stays inlined there.
+    void intersectEach(const Vec3* o, const Vec3* d, std::size_t n, double tnear, Hit* hits, bool* found) const;
     /// Closest hits of n rays o + t dirs[i], t in (tnear, inf), sharing the origin o: traced as 16-wide
     /// Embree packets (rtcIntersect16) where the device supports them, else one by one. found[i] says
     /// whether ray i hit; hits[i] is its hit. The same answers as intersect() ray by ray, to float

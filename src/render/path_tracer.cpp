@@ -58,7 +58,9 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       emitters_(scene, areas_, geometricNormals_, settings.nextEvent && estimator.combinesWithLightSampling()),
       triangleSampling_(emitters_.samplesTriangles()),
       environmentSampling_(emitters_.samplesBackground()),
-      lightSampling_(!emitters_.empty()) {
+      lightSampling_(!emitters_.empty()),
+      wavefront_(settings.wavefront && !learning_ && settings.firstHitSplit <= 1 && !settings.jointFirstBounce &&
+                 !estimator.returnsSets()) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});
@@ -86,6 +88,7 @@ Color PathTracer::cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& sam
 // the same query).
 void PathTracer::cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
                                  PathScratch& scratch) const {
+    if (tracesAsWavefront()) return cameraRadiancesWavefront(o, dirs, n, streams, out, stats, scratch);
     prepare(scratch);
     std::array<Hit, kCameraPacket> hits;
     std::array<bool, kCameraPacket> found;
@@ -195,7 +198,9 @@ Color PathTracer::shade(const Vec3& o, const Vec3& d, const Hit* found, int dept
     const Hit& hit = *found;
     const Triangle& tri = scene_.triangles[hit.prim];
     const PhongMaterial& baseMaterial = scene_.materials[tri.material];
-    // A textured material's parameters at this point, in this depth's scratch material.
+    // A textured material's parameters at this point, in this depth's scratch material. (render/wavefront.cpp's
+    // advance() reads the hit the same way: through one helper returning the five, this function took 0.3% more
+    // instructions of the default render, callgrind at 64x64, 16 spp, one thread: 478.9 M against 477.4 M.)
     const bool textured = textured_[tri.material] != 0;
     const TexCoord uv = textured ? texcoordAt(scene_, tri, hit.u, hit.v) : TexCoord{};
     const PhongMaterial& mat =

@@ -47,6 +47,10 @@ struct TraceSettings {
     /// --splitting ears: a learned roulette factor no harsher than plain roulette's (ears::flooredRoulette).
     /// The renderer sets it when the render's sampler is not one of independent values.
     bool earsRouletteFloor = false;
+    /// Camera packets' paths taken depth by depth (PathTracer::tracesAsWavefront, render/wavefront.cpp) where
+    /// the tracer can: the first step of a wavefront tracer, the same paths as the recursive one; 4-5% dearer in
+    /// time as it is (docs/performance.md "The second tracer"), so off unless a benchmark or test asks for it.
+    bool wavefront = false;
 };
 
 struct TraceStats {
@@ -150,8 +154,15 @@ public:
     /// in order. The same radiances as n calls
     /// of cameraRadiance (the packet's hits are the single rays', bit for bit on this machine: the golden
     /// images and EXRs compared with `cmp`), with Embree's traversal of the camera rays shared.
+    /// With tracesAsWavefront(), the paths go depth by depth instead (render/wavefront.cpp): the same paths, each
+    /// radiance equal up to the rounding of its sum's order.
     void cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
                          PathScratch& scratch) const;
+
+    /// Whether cameraRadiances takes its paths depth by depth (TraceSettings::wavefront): asked for, and one
+    /// continuation a vertex (no --splitting ears, no --split, no joint first-bounce pattern, an estimator of one
+    /// direction a call).
+    bool tracesAsWavefront() const { return wavefront_; }
 
     const Scene& scene() const { return scene_; }
     /// --splitting ears: whether continuations are reported from now on: the deeper vertices' (a tracer kept
@@ -175,6 +186,23 @@ private:
     };
     Color radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
                    PathContext& pc) const;
+    /// A path of cameraRadiancesWavefront: the ray that reached its next vertex, what it found, and its sum so far.
+    struct WavePath {
+        Vec3 o, d;
+        Hit hit;
+        bool found = false;
+        int depth = 0;
+        double prevMisPdf = 0;
+        Color throughput{1.0};  ///< shade()'s throughput: the product of the weights / survival probabilities so far
+        Color L{0.0};
+    };
+    /// The vertex that w's ray reached: its terms added to w.L; true with w set to the continuing ray (depth + 1),
+    /// false where the path ends.
+    bool advance(WavePath& w, PathContext& pc) const;
+    /// cameraRadiances of the same camera rays with their paths taken depth by depth: every path's vertex at
+    /// depth d before any path's at d + 1.
+    void cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
+                                  PathScratch& scratch) const;
     /// The vertex that o + t d reached (hit, or nullptr when it left the scene): its emission, NEE and
     /// continuation.
     Color shade(const Vec3& o, const Vec3& d, const Hit* hit, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
@@ -271,6 +299,7 @@ private:
     bool triangleSampling_;     ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
     bool environmentSampling_;  ///< NEE + MIS of the environment map, on the same terms as the triangles
     bool lightSampling_;        ///< NEE at all: triangles or environment as above, or delta lights (always sampled)
+    bool wavefront_;            ///< tracesAsWavefront()
     double epsilon_ = 1e-4;     ///< ray offset, relative to the scene's size
 };
 

@@ -1,0 +1,101 @@
+// render/wavefront.cpp: the camera packets' paths depth by depth (TraceSettings::wavefront) against the
+// recursive tracer (shade() calling itself), the second method: the same decisions at the same sample
+// dimensions, so the same paths and rays, and each pixel the same sum up to the rounding of its order
+// (forward there, from the deepest vertex here). A path that drew from another dimension, kept a vertex's
+// term at the wrong throughput, lost a path or ended one early would differ by far more than rounding.
+#include "estimators/estimator.h"
+#include "render/path_tracer.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+
+using namespace symphong;
+
+namespace {
+
+struct Case {
+    std::string scene, estimator;
+    std::function<void(RenderSettings&)> tweak = [](RenderSettings&) {};
+    EstimatorOptions options = {};
+};
+
+RenderSettings settingsOf(const Case& c, bool wavefront) {
+    RenderSettings rs;
+    rs.width = 24;
+    rs.height = 18;
+    rs.spp = 21;  // a packet of 16 spans pixels; the last of a pixel's samples go with the next pixel's
+    rs.seed = 5;
+    rs.threads = 2;
+    c.tweak(rs);
+    rs.trace.wavefront = wavefront;
+    return rs;
+}
+
+}  // namespace
+
+TEST(Wavefront, TracesThePathsTheRecursiveTracerTraces) {
+    const std::string dir = std::string(SYMPHONG_SOURCE_DIR) + "/scenes/";
+    EstimatorOptions spread;
+    spread.symmetricMode = SymmetricMode::Spread;
+    std::vector<Case> cases = {
+        {"cornell", "phong"},
+        {dir + "cornell-glossy-100.json", "phong"},
+        {dir + "textured.json", "phong"},  // textures, a normal map, an HDR sky sampled by MIS
+        {dir + "regime/sky-n10.json", "phong"},
+        {"cornell", "cosine", [](RenderSettings& rs) { rs.trace.nextEvent = false; }},
+        {"cornell", "phong", [](RenderSettings& rs) { rs.trace.maxDepth = 2, rs.trace.rrDepth = 1; }},
+        {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstBounceStream = 3; }},
+        {"cornell", "phong", [](RenderSettings& rs) { rs.sampler = "independent"; }},
+        {"cornell", "symmetric-mix", [](RenderSettings&) {}, spread},  // one direction a call
+    };
+    if (!test::scenesDir().empty()) cases.push_back({test::scenesDir() + "/bunny/stanford-bunny.obj", "phong"});
+    for (const Case& c : cases) {
+        const Scene scene = loadScene(c.scene);
+        const Accel accel(scene);
+        const auto estimator = makeEstimator(c.estimator, c.options);
+        const RenderSettings waveSettings = settingsOf(c, true);
+        ASSERT_TRUE(PathTracer(scene, accel, *estimator, waveSettings.trace).tracesAsWavefront()) << c.scene << " " << c.estimator;
+        const RenderResult recursive = render(scene, accel, *estimator, settingsOf(c, false));
+        const RenderResult wave = render(scene, accel, *estimator, waveSettings);
+        EXPECT_EQ(wave.stats.rays, recursive.stats.rays) << c.scene << " " << c.estimator << ": the same paths trace the same rays";
+        std::size_t lit = 0, differing = 0;
+        double worst = 0;
+        for (std::size_t i = 0; i < recursive.image.pixels.size(); ++i) {
+            const Color a = recursive.image.pixels[i], b = wave.image.pixels[i];
+            lit += maxComponent(a) > 0;
+            const double d = maxComponent(vmax(a - b, b - a)) / std::max(1e-300, maxComponent(a));
+            worst = std::max(worst, d);
+            differing += d > 1e-12;
+        }
+        // The comparison saw light (without light sampling, 21 samples find the box's small light in a sixth of the pixels).
+        EXPECT_GT(lit, recursive.image.pixels.size() / 8) << c.scene << " " << c.estimator;
+        EXPECT_EQ(differing, 0u) << c.scene << " " << c.estimator << ": worst relative difference " << worst;
+    }
+}
+
+TEST(Wavefront, OnlyWhereAVertexHasOneContinuation) {
+    const Scene scene = loadScene("cornell");
+    const Accel accel(scene);
+    const auto phong = makeEstimator("phong");
+    TraceSettings on;
+    on.wavefront = true;
+    EXPECT_TRUE(PathTracer(scene, accel, *phong, on).tracesAsWavefront());
+    EXPECT_FALSE(PathTracer(scene, accel, *phong, TraceSettings{}).tracesAsWavefront()) << "off unless asked for";
+    TraceSettings split = on;
+    split.firstHitSplit = 2;
+    EXPECT_FALSE(PathTracer(scene, accel, *phong, split).tracesAsWavefront());
+    TraceSettings joint = on;
+    joint.jointFirstBounce = true;
+    EXPECT_FALSE(PathTracer(scene, accel, *phong, joint).tracesAsWavefront());
+    EstimatorOptions branch;
+    branch.symmetricMode = SymmetricMode::Branch;
+    const auto sets = makeEstimator("symmetric", branch);
+    EXPECT_FALSE(PathTracer(scene, accel, *sets, on).tracesAsWavefront()) << "a set's directions branch";
+}
