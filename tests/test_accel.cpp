@@ -14,6 +14,17 @@
 namespace symphong {
 namespace {
 
+/// A point inside the box [lo, hi].
+Vec3 pointInside(Rng& rng, const Vec3& lo, const Vec3& hi) {
+    return {lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(), lo.z + (hi.z - lo.z) * rng.uniform()};
+}
+
+/// A unit direction uniform on the sphere.
+Vec3 directionOnSphere(Rng& rng) {
+    const double z = 1 - 2 * rng.uniform(), phi = kTwoPi * rng.uniform(), r = std::sqrt(1 - z * z);
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
 void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed, bool coherent) {
     const Accel accel(scene);
     Vec3 lo, hi;
@@ -23,12 +34,9 @@ void expectBundleMatchesSingleRays(const Scene& scene, std::uint64_t seed, bool 
     for (std::size_t n : {1u, 2u, 15u, 16u, 17u, 24u, 32u, 33u, 40u}) {
         for (int trial = 0; trial < 20; ++trial) {
             // An origin inside the bounds, directions over the whole sphere (some leave the scene).
-            const Vec3 o(lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(), lo.z + (hi.z - lo.z) * rng.uniform());
+            const Vec3 o = pointInside(rng, lo, hi);
             std::vector<Vec3> dirs(n);
-            for (Vec3& d : dirs) {  // uniform on the sphere, lengths 0.5 to 1.5 (directions need not be unit)
-                const double z = 1 - 2 * rng.uniform(), phi = kTwoPi * rng.uniform(), r = std::sqrt(1 - z * z);
-                d = Vec3(r * std::cos(phi), r * std::sin(phi), z) * (0.5 + rng.uniform());
-            }
+            for (Vec3& d : dirs) d = directionOnSphere(rng) * (0.5 + rng.uniform());  // lengths 0.5 to 1.5: need not be unit
             std::vector<Hit> hits(n);
             auto found = std::make_unique<bool[]>(n);
             accel.intersectBundle(o, dirs.data(), n, 1e-4, hits.data(), found.get(), coherent);
@@ -79,9 +87,8 @@ TEST(Accel, EachRayOfItsOwnOriginAnswersAsIntersectDoes) {
     const std::size_t n = 200;
     std::vector<Vec3> origins(n), dirs(n);
     for (std::size_t i = 0; i < n; ++i) {
-        origins[i] = Vec3(lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(), lo.z + (hi.z - lo.z) * rng.uniform());
-        const double z = 1 - 2 * rng.uniform(), phi = kTwoPi * rng.uniform(), r = std::sqrt(1 - z * z);
-        dirs[i] = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+        origins[i] = pointInside(rng, lo, hi);
+        dirs[i] = directionOnSphere(rng);
     }
     std::vector<Hit> hits(n);
     auto found = std::make_unique<bool[]>(n);

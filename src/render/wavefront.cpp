@@ -69,7 +69,7 @@ bool PathTracer::advance(WavePath& w, PathContext& pc) const {
     const Vec3 wi = frame.toWorld(s.wi);
     if (s.wi.z <= 0 || dot(wi, ng) <= 0) return end();  // below the surface: no light comes through it
     const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
-    Color next = w.throughput * weight * 1.0;  // continuePath's throughput x weight x branches, one branch
+    Color next = w.throughput * weight;  // continuePath's throughput x weight x branches: one branch, x 1 exactly
     if (depth + 1 >= settings_.rrDepth) {
         const double survive = std::min(0.95, maxComponent(next));
         samples.setDimension(SampleDimensions::vertex(depth + 1, 0) + SampleDimensions::kRoulette);
