@@ -6,8 +6,9 @@
 // Embree's on those same rays: the share of the time the renderer leaves to Embree. Not a test: numbers
 // go to docs/performance.md ("The limit").
 //   bench_limit [--scenes cornell,scenes/cornell-glossy-100.json,scenes/textured.json,sphere2m]
-//               [--size 256] [--spp 16] [--threads N] [--estimator phong] [--split K] [--repeats 3] [--wavefront]
-// --wavefront: the camera packets' paths depth by depth (TraceSettings::wavefront).
+//               [--size 256] [--spp 16] [--threads N] [--estimator phong] [--split K] [--repeats 3] [--tracer automatic|recursive|wavefront]
+// --tracer: which tracer takes the camera samples (TraceSettings::tracer; automatic: the wavefront where the
+// sampler's vector lanes run).
 // "sphere2m" is the built-in Cornell box with a 2,000,000-triangle sphere on its floor (made here).
 #include "accel/accel.h"
 #include "estimators/estimator.h"
@@ -96,7 +97,7 @@ double replayRate(const Accel& accel, const std::vector<RayQuery>& rays, int thr
 
 struct Options {
     int size = 256, threads = 0, split = 1, repeats = 3;
-    bool wavefront = false;
+    std::string tracer = "automatic";
     std::uint32_t spp = 16;
     std::string estimator = "phong";
 };
@@ -109,7 +110,9 @@ void benchScene(const std::string& spec, const Options& o) {
     rs.width = rs.height = o.size;
     rs.spp = o.spp;
     rs.trace.firstHitSplit = o.split;
-    rs.trace.wavefront = o.wavefront;
+    rs.trace.tracer = o.tracer == "recursive"   ? TracerChoice::Recursive
+                      : o.tracer == "wavefront" ? TracerChoice::Wavefront
+                                                : TracerChoice::Automatic;
     std::vector<RayQuery> rays;
     rs.threads = 1;
     accel.record(&rays);
@@ -129,9 +132,9 @@ void benchScene(const std::string& spec, const Options& o) {
         fmt::print(stderr, "bench_limit: {} rays recorded, {} and {} counted\n", rays.size(), recorded.stats.rays, r.stats.rays);
     fmt::print("| {} | {} | {} | {}x{}, {} spp{} | {:.2f} s | {:.1f} M | {:.2f} | {:.2f} | {:.2f} |\n", scene.name, scene.triangles.size(),
                o.estimator, o.size, o.size, o.spp,
-               o.split > 1   ? fmt::format(", --split {}", o.split)
-               : o.wavefront ? ", wavefront"
-                             : "",
+               o.split > 1                                                          ? fmt::format(", --split {}", o.split)
+               : PathTracer(scene, accel, *estimator, rs.trace).tracesAsWavefront() ? ", wavefront"
+                                                                                    : "",
                seconds[seconds.size() / 2], static_cast<double>(rays.size()) / 1e6, ours / 1e6, embree / 1e6, ours / embree);
 }
 
@@ -151,7 +154,9 @@ int main(int argc, char** argv) {
     app.add_option("--estimator", o.estimator, "estimator")->capture_default_str();
     app.add_option("--split", o.split, "first-hit splitting")->capture_default_str();
     app.add_option("--repeats", o.repeats, "timed renders and replays (medians)")->capture_default_str();
-    app.add_flag("--wavefront", o.wavefront, "the camera packets' paths depth by depth (TraceSettings::wavefront)");
+    app.add_option("--tracer", o.tracer, "which tracer takes the camera samples where both can (TraceSettings::tracer)")
+        ->check(CLI::IsMember({"automatic", "recursive", "wavefront"}))
+        ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     fmt::print("threads: {}; medians of {} renders and {} replays\n\n", o.threads, o.repeats, o.repeats);
     fmt::print("| scene | triangles | estimator | render | render time | rays | renderer Mrays/s | Embree alone Mrays/s | ratio |\n");

@@ -7,9 +7,11 @@
 //                         pixel, as SampleStream (what estimators and the path tracer draw from) does.
 //   PairsOfSixteenPaths — SobolSampler::pairValue of 16 paths (16 pixels, the same sample and dimension): one
 //                         call a path, as the path tracer asks, against one loop over the 16 (a wavefront's
-//                         sampler stage written plainly, what the compiler makes of it; _avx2 with AVX2 allowed).
+//                         sampler stage written plainly, what the compiler makes of it; _avx2 with AVX2 allowed;
+//                         _Lanes: sobol_lanes.h's vector lanes, the wavefront tracer's, where the CPU has them).
 #include "sampling/lowdiscrepancy.h"
 #include "sampling/sampler.h"
+#include "sampling/sobol_lanes.h"
 
 #include <benchmark/benchmark.h>
 
@@ -187,6 +189,10 @@ struct SixteenPaths {
 [[gnu::noinline]] void pairsInOneLoop(SixteenPaths& p, std::uint64_t dim) { pairsLoop(p, dim); }
 [[gnu::noinline, gnu::target("avx2,bmi2")]] void pairsInOneLoopAvx2(SixteenPaths& p, std::uint64_t dim) { pairsLoop(p, dim); }
 
+[[gnu::noinline]] void pairsInLanes(SixteenPaths& p, std::uint64_t dim) {
+    detail::sobolPairValuesLanes(p.key, p.index, kSpp, dim, 16, p.u, p.v);
+}
+
 void BM_PairsOfSixteenPaths_OneCallAPath(benchmark::State& state) {
     std::uint64_t k = 0;
     for (auto _ : state) {
@@ -229,6 +235,14 @@ void BM_PairsOfSixteenPaths_OneLoop_avx2(benchmark::State& state) {
     BM_PairsOfSixteenPaths_OneLoop<pairsInOneLoopAvx2>(state);
 }
 
+void BM_PairsOfSixteenPaths_Lanes(benchmark::State& state) {
+    if (!sobolLanesAvailable()) {
+        state.SkipWithError("this CPU has no AVX-512 and GFNI");
+        return;
+    }
+    BM_PairsOfSixteenPaths_OneLoop<pairsInLanes>(state);
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_Sample1D, independent, std::string("independent"));
@@ -255,3 +269,4 @@ BENCHMARK(BM_PermutePowerOfTwo)->Arg(6);
 BENCHMARK(BM_PairsOfSixteenPaths_OneCallAPath);
 BENCHMARK(BM_PairsOfSixteenPaths_OneLoop<pairsInOneLoop>)->Name("BM_PairsOfSixteenPaths_OneLoop");
 BENCHMARK(BM_PairsOfSixteenPaths_OneLoop_avx2);
+BENCHMARK(BM_PairsOfSixteenPaths_Lanes);

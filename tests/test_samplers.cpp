@@ -8,6 +8,7 @@
 #include "sampling/alias_table.h"
 #include "sampling/lowdiscrepancy.h"
 #include "sampling/sampler.h"
+#include "sampling/sobol_lanes.h"
 
 #include "stats.h"
 
@@ -18,6 +19,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <memory>
@@ -1142,4 +1144,94 @@ TEST(LowDiscrepancy, InlineSobolValuesEqualTheirDefinition) {
     const Point2 c = viaJoint.get2D(), c2 = sobol->value2DJoint(sobol->pixelKey(1234), 17, 64, 6, 0);
     EXPECT_EQ(c.u, c2.u);
     EXPECT_EQ(c.v, c2.v);
+}
+
+// sampling/sobol_lanes.h: many streams' values at once, in vector lanes where the processor has them, against
+// SobolSampler's scalar definition one stream at a time: equal bit for bit, for every pattern size the lanes take
+// (1 and the powers of two up to 2^10), sizes they hand back to the scalar form, and counts of streams that leave a
+// part of a lane group empty.
+TEST(SobolLanes, ValuesEqualTheScalarDefinitionBitForBit) {
+    Rng rng(41, 3);
+    std::vector<std::uint32_t> counts = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 3, 21, 37, 2048, 4096};
+    const bool lanes = sobolLanesAvailable();
+    if (!lanes) std::printf("[ NOTE     ] no AVX-512/GFNI here: the dispatching calls run the scalar form\n");
+    std::size_t checked = 0;
+    for (std::uint32_t count : counts)
+        for (std::size_t n : {std::size_t{1}, std::size_t{7}, std::size_t{8}, std::size_t{16}, std::size_t{61}, std::size_t{256}}) {
+            std::vector<std::uint64_t> keys(n);
+            std::vector<std::uint32_t> indices(n);
+            for (std::size_t i = 0; i < n; ++i) {
+                keys[i] = (static_cast<std::uint64_t>(rng.bits()) << 32) | rng.bits();
+                indices[i] = rng.bits() % count;
+            }
+            const std::uint64_t dim = rng.bits() % 100000;
+            std::vector<double> us(n), vs(n), singles(n), laneUs(n), laneVs(n), laneSingles(n);
+            sobolPairValues(keys.data(), indices.data(), count, dim, n, us.data(), vs.data());
+            sobolSingleValues(keys.data(), indices.data(), count, dim, n, singles.data());
+            for (std::size_t i = 0; i < n; ++i) {
+                const Point2 p = SobolSampler::pairValue(keys[i], indices[i], count, dim);
+                ASSERT_EQ(us[i], p.u) << "count " << count << " stream " << i << " of " << n;
+                ASSERT_EQ(vs[i], p.v) << "count " << count << " stream " << i << " of " << n;
+                ASSERT_EQ(singles[i], SobolSampler::singleValue(keys[i], indices[i], count, dim)) << "count " << count << " stream " << i;
+                ++checked;
+            }
+            if (!lanes) continue;
+            detail::sobolPairValuesLanes(keys.data(), indices.data(), count, dim, n, laneUs.data(), laneVs.data());
+            detail::sobolSingleValuesLanes(keys.data(), indices.data(), count, dim, n, laneSingles.data());
+            EXPECT_EQ(laneUs, us) << "count " << count << ", " << n << " streams";
+            EXPECT_EQ(laneVs, vs) << "count " << count << ", " << n << " streams";
+            EXPECT_EQ(laneSingles, singles) << "count " << count << ", " << n << " streams";
+        }
+    EXPECT_EQ(checked, counts.size() * (1 + 7 + 8 + 16 + 61 + 256));
+}
+
+// SampleStream::readAhead: a stream reads a value given ahead at exactly its dimension (the wavefront tracer's
+// values from the lanes), and its own value everywhere else; a sub-sample, a block continuation and a stream of
+// another sampler never read them.
+TEST(SampleStream, ReadsValuesAheadAtTheirDimensionsOnly) {
+    const SobolSampler sobol(16, 9);
+    AheadValues ahead;
+    ahead.pairDims[0] = 10;
+    ahead.pairs[0] = {0.125, 0.375};  // not the sampler's values there: a read of them is seen
+    ahead.pairDims[1] = 20;
+    ahead.pairs[1] = {0.625, 0.875};
+    ahead.singleDim = 31;
+    ahead.single = 0.5625;
+    SampleStream plain(sobol, 77, 5), read(sobol, 77, 5);
+    read.readAhead(&ahead);
+    for (std::uint64_t dim : {8u, 10u, 12u, 20u, 22u}) {
+        plain.setDimension(dim);
+        read.setDimension(dim);
+        const Point2 want = dim == 10 ? ahead.pairs[0] : dim == 20 ? ahead.pairs[1] : plain.get2D();
+        const Point2 got = read.get2D();
+        EXPECT_EQ(got.u, want.u) << "dimension " << dim;
+        EXPECT_EQ(got.v, want.v) << "dimension " << dim;
+        EXPECT_EQ(read.dimension(), dim + 2) << "a pair read ahead still moves the stream on";
+    }
+    for (std::uint64_t dim : {30u, 31u, 32u}) {
+        plain.setDimension(dim);
+        read.setDimension(dim);
+        EXPECT_EQ(read.get1D(), dim == 31 ? ahead.single : plain.get1D()) << "dimension " << dim;
+    }
+    const Point2 own = SobolSampler::pairValue(sobol.pixelKey(77), 5, 16, 10);
+    EXPECT_NE(own.u, ahead.pairs[0].u) << "the test's values ahead must differ from the sampler's";
+    SampleStream sub = read.split(1, 2);
+    sub.setDimension(10);
+    const Point2 subOwn = SobolSampler::pairValue(sobol.pixelKey(77), 11, 32, 10);
+    EXPECT_EQ(sub.get2D().u, subOwn.u) << "a sub-sample has values of its own";
+    SampleStream block = SampleStream(sobol, 77, 5).blockContinuation(1);
+    SampleStream blockRead = block;
+    blockRead.readAhead(&ahead);
+    block.setDimension(10);
+    blockRead.setDimension(10);
+    EXPECT_EQ(blockRead.get2D().u, block.get2D().u) << "a block continuation reads block points";
+    const IndependentSampler independent(16, 9);
+    SampleStream other(independent, 77, 5), otherRead(independent, 77, 5);
+    otherRead.readAhead(&ahead);
+    other.setDimension(10);
+    otherRead.setDimension(10);
+    EXPECT_EQ(otherRead.get2D().u, other.get2D().u) << "values ahead are the sobol sampler's";
+    read.readAhead(nullptr);
+    read.setDimension(10);
+    EXPECT_EQ(read.get2D().u, own.u) << "no longer after readAhead(nullptr)";
 }

@@ -1,4 +1,5 @@
 #include "render/path_tracer.h"
+#include "sampling/sobol_lanes.h"
 
 #include "math/frame.h"
 #include "scene/shading_normal.h"
@@ -59,8 +60,8 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       triangleSampling_(emitters_.samplesTriangles()),
       environmentSampling_(emitters_.samplesBackground()),
       lightSampling_(!emitters_.empty()),
-      wavefront_(settings.wavefront && !learning_ && settings.firstHitSplit <= 1 && !settings.jointFirstBounce &&
-                 !estimator.returnsSets()) {
+      wavefront_((settings.tracer == TracerChoice::Wavefront || (settings.tracer == TracerChoice::Automatic && sobolLanesAvailable())) &&
+                 !learning_ && settings.firstHitSplit <= 1 && !settings.jointFirstBounce && !estimator.returnsSets()) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});

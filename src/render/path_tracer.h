@@ -9,6 +9,7 @@
 #include "estimators/symmetric_mix.h"
 #include "lights/emitters.h"
 #include "math/frame.h"
+#include "render/wavefront.h"
 #include "scene/scene.h"
 #include "scene/shading_normal.h"
 #include "scene/surface.h"
@@ -21,6 +22,9 @@
 #include <vector>
 
 namespace symphong {
+
+/// TraceSettings::tracer: automatic, or one tracer by name.
+enum class TracerChoice { Automatic, Recursive, Wavefront };
 
 struct TraceSettings {
     int maxDepth = 16;      ///< most scattering events on a path; 0 shows emitters only
@@ -47,10 +51,11 @@ struct TraceSettings {
     /// --splitting ears: a learned roulette factor no harsher than plain roulette's (ears::flooredRoulette).
     /// The renderer sets it when the render's sampler is not one of independent values.
     bool earsRouletteFloor = false;
-    /// Camera packets' paths taken depth by depth (PathTracer::tracesAsWavefront, render/wavefront.cpp) where
-    /// the tracer can: the first step of a wavefront tracer, the same paths as the recursive one; 4-5% dearer in
-    /// time as it is (docs/performance.md "The second tracer"), so off unless a benchmark or test asks for it.
-    bool wavefront = false;
+    /// Which tracer takes the camera samples where both can (PathTracer::tracesAsWavefront): the same paths and
+    /// radiances bit for bit either way, so a choice of speed only. Automatic: the wavefront where the sampler's
+    /// vector lanes run (sampling/sobol_lanes.h), the faster there; the recursive tracer elsewhere, where the
+    /// wavefront is the slower (docs/performance.md "The second tracer"). Benchmarks and tests name one.
+    TracerChoice tracer = TracerChoice::Automatic;
 };
 
 struct TraceStats {
@@ -130,6 +135,7 @@ struct PathScratch {
     CacheLineVector<PhongMaterial> materials;   ///< one per depth: a textured material's parameters at its vertex
     std::vector<ears::Record> splitRecords;     ///< --splitting ears: the continuations traced since the caller last took them
     std::array<Vec3, 8> orbit;                  ///< --splitting ears-orbit: the first hit's copies (PathTracer::firstHitOrbit)
+    std::vector<WavefrontBatch> wavefront;      ///< the wavefront tracer's batch: one, allocated by its first call
     /// The emission (unweighted) that a ray from a first hit met at the next vertex, when light sampling could
     /// have found it too (else 0): set by that vertex, for --splitting ears's BrdfHit records.
     Color bounceEmission{0.0};
@@ -146,20 +152,22 @@ public:
     /// Radiance arriving at the camera along o + t d, every decision drawn from `samples` (one camera
     /// sample's stream) at the dimensions of SampleDimensions.
     Color cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const;
-    /// The most camera rays cameraRadiances takes: one Embree packet.
+    /// The most camera rays cameraRadiances takes: one Embree packet (the recursive tracer), or a wavefront's
+    /// batch (tracesAsWavefront(), its camera rays traced as packets of kCameraPacket).
     static constexpr std::size_t kCameraPacket = 16;
-    /// cameraRadiance of n <= kCameraPacket camera rays o + t dirs[k] from one origin (a pinhole camera's:
+    std::size_t cameraBatch() const { return wavefront_ ? WavefrontBatch::kSize : kCameraPacket; }
+    /// cameraRadiance of n <= cameraBatch() camera rays o + t dirs[k] from one origin (a pinhole camera's:
     /// neighbouring samples of a tile, render/renderer.cpp CameraPackets), out[k] from streams[k]: their
     /// first hits found as one coherent packet (Accel::intersectBundle), then each path traced on its own,
     /// in order. The same radiances as n calls
     /// of cameraRadiance (the packet's hits are the single rays', bit for bit on this machine: the golden
     /// images and EXRs compared with `cmp`), with Embree's traversal of the camera rays shared.
-    /// With tracesAsWavefront(), the paths go depth by depth instead (render/wavefront.cpp): the same paths, each
-    /// radiance equal up to the rounding of its sum's order.
+    /// With tracesAsWavefront(), the paths go depth by depth instead (render/wavefront.cpp): the same paths and
+    /// radiances, bit for bit.
     void cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
                          PathScratch& scratch) const;
 
-    /// Whether cameraRadiances takes its paths depth by depth (TraceSettings::wavefront): asked for, and one
+    /// Whether cameraRadiances takes its paths depth by depth (TraceSettings::tracer: named, or automatic where the sampler's lanes run), and one
     /// continuation a vertex (no --splitting ears, no --split, no joint first-bounce pattern, an estimator of one
     /// direction a call).
     bool tracesAsWavefront() const { return wavefront_; }
@@ -186,19 +194,14 @@ private:
     };
     Color radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
                    PathContext& pc) const;
-    /// A path of cameraRadiancesWavefront: the ray that reached its next vertex, what it found, and its sum so far.
-    struct WavePath {
-        Vec3 o, d;
-        Hit hit;
-        bool found = false;
-        int depth = 0;
-        double prevMisPdf = 0;
-        Color throughput{1.0};  ///< shade()'s throughput: the product of the weights / survival probabilities so far
-        Color L{0.0};
-    };
-    /// The vertex that w's ray reached: its terms added to w.L; true with w set to the continuing ray (depth + 1),
-    /// false where the path ends.
-    bool advance(WavePath& w, PathContext& pc) const;
+    /// The sampler's values that the batch's live paths at a surface read at `depth` (the light sample, the
+    /// estimator's pair, the roulette), computed for all of them at once in the lanes of sobol_lanes.h and
+    /// read through their streams (SampleStream::readAhead): the values advance() would compute.
+    void fillAhead(WavefrontBatch& batch, std::size_t count, std::uint32_t spp, int depth) const;
+    /// The vertex that w's ray reached: its terms in `terms`; true with w set to the continuing ray (depth + 1),
+    /// false where the path ends (terms.own then the path's last value: the vertex's own terms, or what the ray
+    /// met leaving the scene).
+    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc) const;
     /// cameraRadiances of the same camera rays with their paths taken depth by depth: every path's vertex at
     /// depth d before any path's at d + 1.
     void cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,

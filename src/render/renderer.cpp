@@ -90,7 +90,7 @@ Color traceCameraSample(const PathTracer& tracer, const Sampler& sampler, const 
     return keptRadiance(tracer.cameraRadiance(o, d, samples, stats, scratch), stats);
 }
 
-/// A tile's camera samples gathered into packets of PathTracer::kCameraPacket camera rays (a pixel's samples in
+/// A tile's camera samples gathered into batches of PathTracer::cameraBatch() camera rays (a pixel's samples in
 /// the order of their index, the pixels in the tile's order: a packet spans several pixels when a pass takes
 /// fewer samples a pixel than it holds), traced together (PathTracer::cameraRadiances), each radiance added to
 /// its pixel's sums in the order of its sample's index: the same sums as traceCameraSample of each in turn.
@@ -104,15 +104,14 @@ public:
     void add(int x, int y, std::size_t pixel, std::uint32_t i) {
         streams_[n_] = cameraSample(sampler_, cameraRays_, x, y, pixel, i, origin_, dirs_[n_]);  // origin_: the camera's, the same for all
         pixels_[n_] = pixel;
-        if (++n_ == PathTracer::kCameraPacket) flush();
+        if (++n_ == capacity_) flush();
     }
     /// Traces the samples added since the last flush and adds them to their pixels.
     void flush() {
         if (n_ == 0) return;
-        std::array<Color, PathTracer::kCameraPacket> radiances;
-        tracer_.cameraRadiances(origin_, dirs_.data(), n_, streams_.data(), radiances.data(), stats_, scratch_);
+        tracer_.cameraRadiances(origin_, dirs_.data(), n_, streams_.data(), radiances_.data(), stats_, scratch_);
         for (std::size_t k = 0; k < n_; ++k) {
-            const Color L = keptRadiance(radiances[k], stats_);
+            const Color L = keptRadiance(radiances_[k], stats_);
             const std::size_t pixel = pixels_[k];
             state_.sum[pixel] += L;
             state_.sumSq[pixel] += L * L;
@@ -128,9 +127,13 @@ private:
     RenderState& state_;
     TraceStats& stats_;
     PathScratch& scratch_;
-    std::array<SampleStream, PathTracer::kCameraPacket> streams_;
-    std::array<Vec3, PathTracer::kCameraPacket> dirs_;
-    std::array<std::size_t, PathTracer::kCameraPacket> pixels_{};
+    static constexpr std::size_t kMost = WavefrontBatch::kSize;
+    static_assert(kMost >= PathTracer::kCameraPacket);
+    std::size_t capacity_ = tracer_.cameraBatch();
+    std::array<SampleStream, kMost> streams_;
+    std::array<Vec3, kMost> dirs_;
+    std::array<std::size_t, kMost> pixels_{};
+    std::array<Color, kMost> radiances_;
     Vec3 origin_;
     std::size_t n_ = 0;
 };

@@ -1,12 +1,14 @@
-// A packet's paths depth by depth (PathTracer's members for it; the recursive tracer is in path_tracer.cpp):
-// every path of a packet of camera rays takes its vertex at depth d before any takes its vertex at d + 1,
-// each vertex adding its emission and light sample to the path's sum times the path's throughput and
-// handing on the next ray, instead of shade() calling itself for the next vertex and adding on the way
-// back. The first step of a wavefront tracer (docs/performance.md "The second tracer"): the same
-// decisions at the same sample dimensions as the recursive tracer, so the same paths; each sum equal to
-// shade()'s up to the rounding of its order (forward here, from the deepest vertex there).
+// A batch of camera samples' paths depth by depth (PathTracer's members for it; the recursive tracer is in
+// path_tracer.cpp; the batch's state in wavefront.h): every path of the batch takes its vertex at depth d before any
+// takes its vertex at d + 1, each vertex keeping its terms (VertexTerms) and handing on the next ray, instead of
+// shade() calling itself for the next vertex and adding on the way back; the closest-hit queries of a depth's
+// continuing rays go to Embree together, and the sampler's values of a depth's vertices are computed together in
+// vector lanes (sobol_lanes.h). The same decisions at the same sample dimensions as the recursive tracer, so the
+// same paths, and each path's terms summed at its end from the last vertex back, in shade()'s order: the same
+// radiance bit for bit (docs/performance.md "The second tracer").
 #include "math/frame.h"
 #include "render/path_tracer.h"
+#include "sampling/sobol_lanes.h"
 #include "scene/shading_normal.h"
 #include "scene/surface.h"
 
@@ -16,11 +18,11 @@ namespace symphong {
 
 // shade() and continuePath() for one continuation a vertex (tracesAsWavefront): their code in their order,
 // with the continuation handed back in `w` instead of traced.
-bool PathTracer::advance(WavePath& w, PathContext& pc) const {
+bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc) const {
     const int depth = w.depth;
     if (!w.found) {
         Color emitted;
-        w.L += w.throughput * escaped(w.d, depth, w.prevMisPdf, emitted);
+        terms.own = escaped(w.d, depth, w.prevMisPdf, emitted);
         return false;
     }
     const Hit& hit = w.hit;
@@ -39,9 +41,9 @@ bool PathTracer::advance(WavePath& w, PathContext& pc) const {
         const Color emitted = textured ? emissionAt(scene_, baseMaterial, uv) : mat.emission;
         L += emitted * emissionWeight(hit, w.d, depth, w.prevMisPdf);
     }
-    // The vertex's terms, into the path's sum at its throughput; the path ends here unless it continues below.
+    // The vertex's own terms; the path ends here unless it continues below.
     const auto end = [&] {
-        w.L += w.throughput * L;
+        terms.own = L;
         return false;
     };
     if (depth >= settings_.maxDepth) return end();
@@ -70,13 +72,16 @@ bool PathTracer::advance(WavePath& w, PathContext& pc) const {
     if (s.wi.z <= 0 || dot(wi, ng) <= 0) return end();  // below the surface: no light comes through it
     const Color weight = shadowed ? s.weight * bumpShadowing(ng, frame.n, wi) : s.weight;
     Color next = w.throughput * weight;  // continuePath's throughput x weight x branches: one branch, x 1 exactly
+    double survive = 1.0;
     if (depth + 1 >= settings_.rrDepth) {
-        const double survive = std::min(0.95, maxComponent(next));
+        survive = std::min(0.95, maxComponent(next));
         samples.setDimension(SampleDimensions::vertex(depth + 1, 0) + SampleDimensions::kRoulette);
         if (!(survive > 0) || samples.get1D() >= survive) return end();
         next /= survive;
     }
-    w.L += w.throughput * L;
+    terms.own = L;
+    terms.weight = weight;
+    terms.survive = survive;
     w.o = p + ng * epsilon_;
     w.d = wi;
     w.prevMisPdf = s.misPdf;
@@ -88,41 +93,104 @@ bool PathTracer::advance(WavePath& w, PathContext& pc) const {
 void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out,
                                           TraceStats& stats, PathScratch& scratch) const {
     prepare(scratch);
-    n = std::min(n, kCameraPacket);
-    std::array<Hit, kCameraPacket> hits;
-    std::array<bool, kCameraPacket> found;
-    accel_.intersectBundle(o, dirs, n, 0.0, hits.data(), found.data(), true);
-    stats.rays += n;
-    std::array<WavePath, kCameraPacket> paths;
-    std::array<std::uint8_t, kCameraPacket> live;  // the paths still going, in the packet's order
-    for (std::size_t k = 0; k < n; ++k) {
-        paths[k].o = o;
-        paths[k].d = dirs[k];
-        paths[k].hit = hits[k];
-        paths[k].found = found[k];
-        live[k] = static_cast<std::uint8_t>(k);
+    if (scratch.wavefront.empty()) scratch.wavefront.resize(1);
+    WavefrontBatch& b = scratch.wavefront.front();
+    n = std::min(n, WavefrontBatch::kSize);
+    // The camera rays as Embree packets (cameraRadiances' coherent packets of kCameraPacket).
+    for (std::size_t first = 0; first < n; first += kCameraPacket) {
+        const std::size_t m = std::min(kCameraPacket, n - first);
+        accel_.intersectBundle(o, dirs + first, m, 0.0, b.hits.data() + first, b.found.data() + first, true);
     }
-    for (std::size_t count = n; count > 0;) {
+    stats.rays += n;
+    for (std::size_t k = 0; k < n; ++k) {
+        b.paths[k] = WavePath{};
+        b.paths[k].o = o;
+        b.paths[k].d = dirs[k];
+        b.paths[k].hit = b.hits[k];
+        b.paths[k].found = b.found[k];
+        b.live[k] = static_cast<std::uint16_t>(k);
+    }
+    // The sampler's values computed ahead: sobol streams of one pattern size (a render's camera samples), where
+    // the lanes run; elsewhere computing them ahead would only move the same scalar work.
+    const std::uint32_t spp = n > 0 ? streams[0].samplesPerPixel() : 0;
+    bool ahead = n > 0 && sobolLanesAvailable();
+    for (std::size_t k = 0; k < n && ahead; ++k) ahead = streams[k].sampler().isSobol() && streams[k].samplesPerPixel() == spp;
+    if (ahead)
+        for (std::size_t k = 0; k < n; ++k) {
+            b.keys[k] = streams[k].pixelKey();
+            b.indices[k] = streams[k].sampleIndex();
+            streams[k].readAhead(&b.ahead[k]);
+        }
+    for (std::size_t count = n, depth = 0; count > 0; ++depth) {
+        if (ahead) fillAhead(b, count, spp, static_cast<int>(depth));
+        if (b.terms.size() <= depth) b.terms.resize(depth + 1);
+        auto& terms = b.terms[depth];
         std::size_t kept = 0;
         for (std::size_t i = 0; i < count; ++i) {
-            const std::size_t k = live[i];
+            const std::size_t k = b.live[i];
             PathContext pc{streams[k], stats, scratch};
-            if (advance(paths[k], pc)) live[kept++] = static_cast<std::uint8_t>(k);
+            if (advance(b.paths[k], terms[k], pc)) b.live[kept++] = static_cast<std::uint16_t>(k);
         }
         count = kept;
-        std::array<Vec3, kCameraPacket> origins, directions;
         for (std::size_t i = 0; i < count; ++i) {
-            origins[i] = paths[live[i]].o;
-            directions[i] = paths[live[i]].d;
+            b.origins[i] = b.paths[b.live[i]].o;
+            b.directions[i] = b.paths[b.live[i]].d;
         }
-        accel_.intersectEach(origins.data(), directions.data(), count, epsilon_, hits.data(), found.data());
+        accel_.intersectEach(b.origins.data(), b.directions.data(), count, epsilon_, b.hits.data(), b.found.data());
         stats.rays += count;
         for (std::size_t i = 0; i < count; ++i) {
-            paths[live[i]].hit = hits[i];
-            paths[live[i]].found = found[i];
+            b.paths[b.live[i]].hit = b.hits[i];
+            b.paths[b.live[i]].found = b.found[i];
         }
     }
-    for (std::size_t k = 0; k < n; ++k) out[k] = paths[k].L;
+    if (ahead)
+        for (std::size_t k = 0; k < n; ++k) streams[k].readAhead(nullptr);
+    // Each path's radiance from its last vertex back to its first, as shade()'s returns add it up.
+    for (std::size_t k = 0; k < n; ++k) {
+        std::size_t d = static_cast<std::size_t>(b.paths[k].depth);
+        Color L = b.terms[d][k].own;
+        while (d-- > 0) {
+            const VertexTerms& t = b.terms[d][k];
+            L = t.own + t.weight * L / t.survive;
+        }
+        out[k] = L;
+    }
+}
+
+void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t spp, int depth) const {
+    // The live paths at a surface below the depth limit: the ones whose vertex reads these dimensions.
+    std::size_t m = 0;
+    if (depth < settings_.maxDepth)
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::size_t k = b.live[i];
+            if (!b.paths[k].found) continue;
+            b.at[m] = static_cast<std::uint16_t>(k);
+            b.atKeys[m] = b.keys[k];
+            b.atIndices[m] = b.indices[k];
+            ++m;
+        }
+    if (m == 0) return;
+    const auto pairs = [&](int slot, std::uint64_t dim) {
+        sobolPairValues(b.atKeys.data(), b.atIndices.data(), spp, dim, m, b.us.data(), b.vs.data());
+        for (std::size_t i = 0; i < m; ++i) {
+            AheadValues& a = b.ahead[b.at[i]];
+            a.pairDims[slot] = dim;
+            a.pairs[slot] = {b.us[i], b.vs[i]};
+        }
+    };
+    // advance()'s reads at this depth, at its dimensions: the light sample, the estimator's pair, the roulette.
+    if (lightSampling_) pairs(0, SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
+    pairs(1, depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream)
+                        : SampleDimensions::vertex(depth, 0) + SampleDimensions::kEstimator);
+    if (depth + 1 >= settings_.rrDepth) {
+        const std::uint64_t dim = SampleDimensions::vertex(depth + 1, 0) + SampleDimensions::kRoulette;
+        sobolSingleValues(b.atKeys.data(), b.atIndices.data(), spp, dim, m, b.us.data());
+        for (std::size_t i = 0; i < m; ++i) {
+            AheadValues& a = b.ahead[b.at[i]];
+            a.singleDim = dim;
+            a.single = b.us[i];
+        }
+    }
 }
 
 }  // namespace symphong

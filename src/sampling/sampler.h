@@ -194,6 +194,18 @@ inline constexpr std::string_view kDefaultSampler = "sobol";
 /// Creates a sampler; throws std::invalid_argument listing the valid names.
 std::unique_ptr<Sampler> makeSampler(std::string_view name, std::uint32_t samplesPerPixel, std::uint64_t seed);
 
+/// Values of a camera sample computed ahead of its stream's reads (the wavefront tracer's, in the lanes of
+/// sobol_lanes.h): up to two pairs and one single dimension, each at its dimension number. A sobol stream
+/// reading through them (SampleStream::readAhead) takes a value from here when its dimension is one of
+/// these and computes it as usual otherwise: the same values either way.
+struct AheadValues {
+    static constexpr std::uint64_t kNone = ~std::uint64_t{0};
+    std::uint64_t pairDims[2] = {kNone, kNone};
+    Point2 pairs[2];
+    std::uint64_t singleDim = kNone;
+    double single = 0;
+};
+
 /// One camera sample's view of a sampler: the pixel and sample index fixed, dimensions handed out in
 /// order from a position the caller sets. What estimators and the path tracer draw from.
 class SampleStream {
@@ -217,6 +229,7 @@ public:
         SampleStream s = *this;
         s.index_ = index_ * k + j;
         s.count_ = count_ * k;
+        if (s.mode_ == kAheadMode) s.readAhead(nullptr);  // values ahead are this sample's, not a sub-sample's
         return s;
     }
 
@@ -227,11 +240,18 @@ public:
     /// too (lowdiscrepancy.h). Everything else (get3D, the spread patterns) reads the split sub-sample.
     SampleStream blockContinuation(std::uint32_t j) const {
         SampleStream s = split(j, kBlockSize);
-        s.block_ = sobol_;
+        s.mode_ = sobol_ ? kBlockMode : kPlainMode;
         return s;
     }
 
     void setDimension(std::uint64_t dim) { dim_ = dim; }
+    /// Reads from now on take the values in `ahead` at their dimensions (a sobol stream that is not a
+    /// block continuation; other streams ignore it); `ahead` must outlive the reads. nullptr: no longer.
+    void readAhead(const AheadValues* ahead) {
+        if (!sobol_ || mode_ == kBlockMode) return;
+        ahead_ = ahead;
+        mode_ = ahead ? kAheadMode : kPlainMode;
+    }
     /// The same sample of the same pixel read through another sampler (e.g. a JointPairView of this one).
     SampleStream through(const Sampler& sampler) const {
         SampleStream s = *this;
@@ -244,13 +264,23 @@ public:
     double get1D() {
         const std::uint64_t d = dim_++;
         if (!sobol_) return sampler_->value1D(key_, index_, count_, d);
-        return block_ ? SobolSampler::blockSingleValue(key_, index_ / kBlockSize, count_ / kBlockSize, d, index_ % kBlockSize)
-                      : SobolSampler::singleValue(key_, index_, count_, d);
+        if (mode_ == kBlockMode)
+            return SobolSampler::blockSingleValue(key_, index_ / kBlockSize, count_ / kBlockSize, d, index_ % kBlockSize);
+        if (mode_ == kAheadMode && ahead_->singleDim == d) return ahead_->single;
+        return SobolSampler::singleValue(key_, index_, count_, d);  // one call each (GCC then inlines them)
     }
     Point2 get2D() {
-        const Point2 p = !sobol_ ? sampler_->value2D(key_, index_, count_, dim_)
-                         : block_ ? SobolSampler::blockPairValue(key_, index_ / kBlockSize, count_ / kBlockSize, dim_, index_ % kBlockSize)
-                                  : SobolSampler::pairValue(key_, index_, count_, dim_);
+        Point2 p;
+        if (!sobol_)
+            p = sampler_->value2D(key_, index_, count_, dim_);
+        else if (mode_ == kBlockMode)
+            p = SobolSampler::blockPairValue(key_, index_ / kBlockSize, count_ / kBlockSize, dim_, index_ % kBlockSize);
+        else if (mode_ == kAheadMode && ahead_->pairDims[0] == dim_)
+            p = ahead_->pairs[0];
+        else if (mode_ == kAheadMode && ahead_->pairDims[1] == dim_)
+            p = ahead_->pairs[1];
+        else
+            p = SobolSampler::pairValue(key_, index_, count_, dim_);
         dim_ += 2;
         return p;
     }
@@ -297,6 +327,8 @@ public:
     }
 
     std::uint64_t pixel() const { return pixel_; }
+    /// The pixel's key (Sampler::pixelKey): what the sampler hashes with each dimension.
+    std::uint64_t pixelKey() const { return key_; }
     std::uint32_t sampleIndex() const { return index_; }
     /// Samples of the pattern this stream's sample belongs to: the pixel's spp, or spp x k for a split one.
     std::uint32_t samplesPerPixel() const { return count_; }
@@ -308,7 +340,11 @@ private:
     std::uint32_t index_ = 0;
     std::uint32_t count_ = 0;  ///< samples of the pattern: the pixel's spp, or spp x k for a split stream
     bool sobol_ = false;       ///< sampler_ is a SobolSampler: its values inline
-    bool block_ = false;       ///< a sobol blockContinuation: get1D and get2D read block points
+    static constexpr std::uint8_t kPlainMode = 0, kBlockMode = 1, kAheadMode = 2;
+    /// How a sobol stream reads: its values as such; a blockContinuation's block points; or the values in
+    /// ahead_ where their dimensions come (readAhead).
+    std::uint8_t mode_ = kPlainMode;
+    const AheadValues* ahead_ = nullptr;
     std::uint64_t dim_ = 0;
 };
 

@@ -1,0 +1,61 @@
+// render/wavefront.h — the state of the wavefront tracer (PathTracer::tracesAsWavefront, render/wavefront.cpp):
+// a batch of camera samples' paths kept between depths, each path's ray, what it found, its throughput and the
+// terms of its vertices so far; the live paths' indices; the arrays that the batched stages hand to Embree (the continuing rays)
+// and to the sampler's lanes (the pixel keys and sample indices, the values computed ahead). One a thread, in
+// its PathScratch, allocated once.
+#pragma once
+
+#include "accel/accel.h"
+#include "math/vec3.h"
+#include "sampling/sampler.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace symphong {
+
+/// A path of the wavefront: the ray that reached its next vertex and what it found.
+struct WavePath {
+    Vec3 o, d;
+    Hit hit;
+    bool found = false;
+    int depth = 0;
+    double prevMisPdf = 0;
+    Color throughput{1.0};  ///< shade()'s throughput: the product of the weights / survival probabilities so far
+};
+
+/// A vertex's part of its path's radiance: its own terms (emission, then the light sample: `own`, shade()'s L
+/// before its continuation), and how the rest of the path enters (weight x rest / survive). The path's
+/// radiance is summed from its last vertex back to its first, own + (weight x rest) / survive at each, in
+/// shade()'s order of operations: the recursive tracer's value bit for bit.
+struct VertexTerms {
+    Color own{0.0};
+    Color weight{0.0};
+    double survive = 1.0;
+};
+
+/// The wavefront's batch: up to kSize camera samples traced together, depth by depth.
+struct WavefrontBatch {
+    /// Camera samples a batch takes (render/renderer.cpp gathers them): enough that the stages' loops and the
+    /// sampler's lanes run full at the deeper depths, where few of the paths are left.
+    static constexpr std::size_t kSize = 256;
+    std::array<WavePath, kSize> paths;
+    std::vector<std::array<VertexTerms, kSize>> terms;  ///< terms[d][k]: path k's vertex at depth d (grown as depths are reached)
+    std::array<std::uint16_t, kSize> live;              ///< the paths still going, in the batch's order
+    std::array<Hit, kSize> hits;
+    std::array<bool, kSize> found;
+    std::array<Vec3, kSize> origins, directions;  ///< the continuing rays, for Accel::intersectEach
+    // The sampler's values computed ahead (PathTracer::fillAhead): the paths at a surface, their keys and
+    // indices, the values that their streams read (SampleStream::readAhead), the lanes' output.
+    std::array<std::uint64_t, kSize> keys;       ///< path k's pixel key
+    std::array<std::uint32_t, kSize> indices;    ///< path k's sample index
+    std::array<std::uint16_t, kSize> at;         ///< the paths at a surface (fillAhead)
+    std::array<std::uint64_t, kSize> atKeys;     ///< their keys
+    std::array<std::uint32_t, kSize> atIndices;  ///< their sample indices
+    std::array<AheadValues, kSize> ahead;
+    std::array<double, kSize> us, vs;
+};
+
+}  // namespace symphong
