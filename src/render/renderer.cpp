@@ -2,6 +2,7 @@
 
 #include "io/memory.h"
 #include "sampling/sampler_registry.h"
+#include "sampling/sobol_lanes.h"
 #include "util/cpu_time.h"
 
 #include <fmt/format.h>
@@ -102,13 +103,21 @@ public:
 
     /// Sample i of pixel (x, y), traced when the packet is full or at flush().
     void add(int x, int y, std::size_t pixel, std::uint32_t i) {
-        streams_[n_] = cameraSample(sampler_, cameraRays_, x, y, pixel, i, origin_, dirs_[n_]);  // origin_: the camera's, the same for all
+        if (jitterInLanes_) {  // its jitter and ray at flush(), with the batch's
+            streams_[n_] = SampleStream(sampler_, pixel, i, SampleDimensions::kPixel);
+            xs_[n_] = x;
+            ys_[n_] = y;
+        } else {
+            streams_[n_] =
+                cameraSample(sampler_, cameraRays_, x, y, pixel, i, origin_, dirs_[n_]);  // origin_: the camera's, the same for all
+        }
         pixels_[n_] = pixel;
         if (++n_ == capacity_) flush();
     }
     /// Traces the samples added since the last flush and adds them to their pixels.
     void flush() {
         if (n_ == 0) return;
+        if (jitterInLanes_) cameraRaysInLanes();
         tracer_.cameraRadiances(origin_, dirs_.data(), n_, streams_.data(), radiances_.data(), stats_, scratch_);
         for (std::size_t k = 0; k < n_; ++k) {
             const Color L = keptRadiance(radiances_[k], stats_);
@@ -121,6 +130,23 @@ public:
     }
 
 private:
+    /// cameraSample's jitter, rays and streams for the batch's samples, their jitter pairs computed together in the
+    /// sampler's lanes (sampling/sobol_lanes.h): the same values.
+    void cameraRaysInLanes() {
+        std::array<std::uint64_t, kMost> keys;
+        std::array<std::uint32_t, kMost> indices;
+        for (std::size_t k = 0; k < n_; ++k) {
+            keys[k] = streams_[k].pixelKey();
+            indices[k] = streams_[k].sampleIndex();
+        }
+        std::array<double, kMost> us, vs;
+        sobolPairValues(keys.data(), indices.data(), sampler_.samplesPerPixel(), SampleDimensions::kPixel, n_, us.data(), vs.data());
+        for (std::size_t k = 0; k < n_; ++k) {
+            streams_[k].setDimension(SampleDimensions::kPixel + 2);
+            cameraRays_(xs_[k] + us[k], ys_[k] + vs[k], origin_, dirs_[k]);
+        }
+    }
+
     const PathTracer& tracer_;
     const Sampler& sampler_;
     const CameraRays& cameraRays_;
@@ -134,6 +160,8 @@ private:
     std::array<Vec3, kMost> dirs_;
     std::array<std::size_t, kMost> pixels_{};
     std::array<Color, kMost> radiances_;
+    const bool jitterInLanes_ = sampler_.isSobol() && sobolLanesAvailable();
+    std::array<int, kMost> xs_, ys_;  ///< the samples' pixels, for their rays at flush() (jitterInLanes_)
     Vec3 origin_;
     std::size_t n_ = 0;
 };
