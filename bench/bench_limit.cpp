@@ -3,8 +3,10 @@
 // in the order the render asked for them), then the same render is timed with all threads, then the
 // recorded rays are traced again by rtcIntersect1 / rtcOccluded1 alone, in their order, in chunks of
 // 4096 over the same threads: no sampling, shading or bookkeeping. "ratio" is the renderer's rays/s over
-// Embree's on those same rays: the share of the time the renderer leaves to Embree. Not a test: numbers
-// go to docs/performance.md ("The limit").
+// Embree's on those same rays: the share of the time the renderer leaves to Embree. The replay runs twice:
+// ray by ray, and in 16-wide packets of each chunk's closest-hit and shadow queries (the faster limit,
+// now that the wavefront gives Embree its rays in packets). Not a test: numbers go to docs/performance.md
+// ("The limit").
 //   bench_limit [--scenes cornell,scenes/cornell-glossy-100.json,scenes/textured.json,sphere2m]
 //               [--size 256] [--spp 16] [--threads N] [--estimator phong] [--split K] [--repeats 3] [--tracer automatic|recursive|wavefront]
 // --tracer: which tracer takes the camera samples (TraceSettings::tracer; automatic: the wavefront where the
@@ -61,8 +63,10 @@ Scene sphereInCornellBox() {
 }
 
 /// Rays per second of Embree alone on the recorded queries, in their order, chunks of 4096 over
-/// `threads` threads; the median of `repeats` passes.
-double replayRate(const Accel& accel, const std::vector<RayQuery>& rays, int threads, int repeats) {
+/// `threads` threads; the median of `repeats` passes. One by one (rtcIntersect1 / rtcOccluded1), or
+/// `packets`: each chunk's closest-hit queries, then its shadow queries, 16 a packet in their order
+/// (rtcIntersect16 / rtcOccluded16), as the wavefront gives a depth's rays to Embree.
+double replayRate(const Accel& accel, const std::vector<RayQuery>& rays, int threads, int repeats, bool packets) {
     tbb::task_arena arena(threads);
     std::vector<double> rates;
     for (int pass = 0; pass < repeats; ++pass) {
@@ -71,6 +75,35 @@ double replayRate(const Accel& accel, const std::vector<RayQuery>& rays, int thr
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
                 RTCIntersectContext ctx;
                 rtcInitIntersectContext(&ctx);
+                if (packets) {
+                    // The chunk's closest-hit queries, then its shadow queries, 16 a packet in their order.
+                    for (int shadow = 0; shadow < 2; ++shadow) {
+                        alignas(64) RTCRayHit16 rh;
+                        alignas(64) int valid[16];
+                        std::size_t lane = 0;
+                        const auto flush = [&] {
+                            for (std::size_t k = 0; k < 16; ++k) valid[k] = k < lane ? -1 : 0;
+                            if (shadow)
+                                rtcOccluded16(valid, accel.handle(), &ctx, &rh.ray);
+                            else
+                                rtcIntersect16(valid, accel.handle(), &ctx, &rh);
+                            lane = 0;
+                        };
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                            const RayQuery& q = rays[i];
+                            if (q.shadow != (shadow == 1)) continue;
+                            rh.ray.org_x[lane] = q.org[0], rh.ray.org_y[lane] = q.org[1], rh.ray.org_z[lane] = q.org[2];
+                            rh.ray.dir_x[lane] = q.dir[0], rh.ray.dir_y[lane] = q.dir[1], rh.ray.dir_z[lane] = q.dir[2];
+                            rh.ray.tnear[lane] = q.tnear, rh.ray.tfar[lane] = q.tfar;
+                            rh.ray.time[lane] = 0, rh.ray.mask[lane] = 0xFFFFFFFFu, rh.ray.id[lane] = 0, rh.ray.flags[lane] = 0;
+                            rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+                            rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+                            if (++lane == 16) flush();
+                        }
+                        if (lane > 0) flush();
+                    }
+                    return;
+                }
                 for (std::size_t i = range.begin(); i != range.end(); ++i) {
                     const RayQuery& q = rays[i];
                     RTCRayHit rh;
@@ -127,15 +160,17 @@ void benchScene(const std::string& spec, const Options& o) {
     }
     std::sort(seconds.begin(), seconds.end());
     const double ours = static_cast<double>(r.stats.rays) / seconds[seconds.size() / 2];
-    const double embree = replayRate(accel, rays, o.threads, o.repeats);
+    const double embree = replayRate(accel, rays, o.threads, o.repeats, false);
+    const double packets = replayRate(accel, rays, o.threads, o.repeats, true);
     if (recorded.stats.rays != rays.size() || r.stats.rays != rays.size())
         fmt::print(stderr, "bench_limit: {} rays recorded, {} and {} counted\n", rays.size(), recorded.stats.rays, r.stats.rays);
-    fmt::print("| {} | {} | {} | {}x{}, {} spp{} | {:.2f} s | {:.1f} M | {:.2f} | {:.2f} | {:.2f} |\n", scene.name, scene.triangles.size(),
-               o.estimator, o.size, o.size, o.spp,
+    fmt::print("| {} | {} | {} | {}x{}, {} spp{} | {:.2f} s | {:.1f} M | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} |\n", scene.name,
+               scene.triangles.size(), o.estimator, o.size, o.size, o.spp,
                o.split > 1                                                          ? fmt::format(", --split {}", o.split)
                : PathTracer(scene, accel, *estimator, rs.trace).tracesAsWavefront() ? ", wavefront"
                                                                                     : "",
-               seconds[seconds.size() / 2], static_cast<double>(rays.size()) / 1e6, ours / 1e6, embree / 1e6, ours / embree);
+               seconds[seconds.size() / 2], static_cast<double>(rays.size()) / 1e6, ours / 1e6, embree / 1e6, ours / embree, packets / 1e6,
+               ours / packets);
 }
 
 }  // namespace
@@ -159,8 +194,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     fmt::print("threads: {}; medians of {} renders and {} replays\n\n", o.threads, o.repeats, o.repeats);
-    fmt::print("| scene | triangles | estimator | render | render time | rays | renderer Mrays/s | Embree alone Mrays/s | ratio |\n");
-    fmt::print("|---|---:|---|---|---:|---:|---:|---:|---:|\n");
+    fmt::print(
+        "| scene | triangles | estimator | render | render time | rays | renderer Mrays/s | Embree alone Mrays/s | ratio | Embree alone, "
+        "packets of 16, Mrays/s | ratio |\n");
+    fmt::print("|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const std::string& s : scenes) benchScene(s, o);
     return 0;
 }

@@ -1,5 +1,5 @@
-// accel/: the bundle query (16-wide packets) and the query of rays of their own origins (intersectEach)
-// answer as the single-ray query does, ray by ray, at every bundle size around the packet width, for rays
+// accel/: the bundle query (16-wide packets) and the queries of rays of their own origins (intersectEach,
+// occludedEach) answer as the single-ray queries do, ray by ray, at every bundle size around the packet width, for rays
 // that hit and rays that leave the scene.
 #include "accel/accel.h"
 #include "sampling/rng.h"
@@ -75,38 +75,70 @@ TEST(Accel, BundleMatchesSingleRaysOnTheBunny) {
     expectBundleMatchesSingleRays(bunny, 2, true);
 }
 
-// intersectEach traces rays of their own origins one by one with its own copy of intersect()'s query: the same
-// answers bit for bit, rays that hit and rays that leave the box alike.
-TEST(Accel, EachRayOfItsOwnOriginAnswersAsIntersectDoes) {
+// intersectEach and occludedEach take rays of their own origins: one by one (an Accel without packets, or a
+// batch of at most kSingleRaysUpTo) with their own copy of the single-ray query, the same answers bit for bit;
+// as 16-wide packets otherwise, the same answers to float round-off. Rays that hit (or are blocked) and rays
+// that leave the box (or are clear) alike, at batch sizes around the packet width.
+void expectEachMatchesSingleRays(bool packets) {
     Scene s = makeCornellBox();
     finalizeScene(s, "cornell", false);
-    const Accel accel(s);
+    const Accel accel(s, packets);
     Vec3 lo, hi;
     s.bounds(lo, hi);
     Rng rng(4, 3);
-    const std::size_t n = 200;
-    std::vector<Vec3> origins(n), dirs(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        origins[i] = pointInside(rng, lo, hi);
-        dirs[i] = directionOnSphere(rng);
+    std::size_t hitsSeen = 0, raysSeen = 0, blockedSeen = 0, clearSeen = 0;
+    for (std::size_t n : {1u, 4u, 5u, 15u, 16u, 17u, 40u, 200u}) {
+        std::vector<Vec3> origins(n), dirs(n);
+        std::vector<ShadowRay> shadows(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            origins[i] = pointInside(rng, lo, hi);
+            dirs[i] = directionOnSphere(rng);
+            // A segment to another point inside, or a ray to infinity.
+            shadows[i].o = origins[i];
+            if (i % 3 == 0) {
+                shadows[i].d = dirs[i];
+                shadows[i].tfar = std::numeric_limits<double>::infinity();
+            } else {
+                shadows[i].d = pointInside(rng, lo, hi) - origins[i];
+                shadows[i].tfar = 1.0 - 1e-5;
+            }
+        }
+        const bool exact = !packets || n <= Accel::kSingleRaysUpTo;
+        std::vector<Hit> hits(n);
+        auto found = std::make_unique<bool[]>(n);
+        auto blocked = std::make_unique<bool[]>(n);
+        accel.intersectEach(origins.data(), dirs.data(), n, 1e-4, hits.data(), found.get());
+        accel.occludedEach(shadows.data(), n, blocked.get());
+        for (std::size_t i = 0; i < n; ++i) {
+            ++raysSeen;
+            ASSERT_EQ(blocked[i], accel.occluded(shadows[i].o, shadows[i].d, 0.0, shadows[i].tfar)) << "n = " << n << ", shadow ray " << i;
+            ++(blocked[i] ? blockedSeen : clearSeen);
+            Hit single;
+            const bool f = accel.intersect(origins[i], dirs[i], 1e-4, std::numeric_limits<double>::infinity(), single);
+            ASSERT_EQ(found[i], f) << "n = " << n << ", ray " << i;
+            if (!f) continue;
+            ++hitsSeen;
+            EXPECT_EQ(hits[i].prim, single.prim) << "n = " << n << ", ray " << i;
+            if (exact) {
+                EXPECT_EQ(hits[i].t, single.t) << "n = " << n << ", ray " << i;
+                EXPECT_EQ(hits[i].u, single.u) << "n = " << n << ", ray " << i;
+                EXPECT_EQ(hits[i].v, single.v) << "n = " << n << ", ray " << i;
+            } else {
+                EXPECT_NEAR(hits[i].t, single.t, 1e-5 * single.t) << "n = " << n << ", ray " << i;
+                EXPECT_NEAR(hits[i].u, single.u, 1e-5);
+                EXPECT_NEAR(hits[i].v, single.v, 1e-5);
+            }
+        }
     }
-    std::vector<Hit> hits(n);
-    auto found = std::make_unique<bool[]>(n);
-    accel.intersectEach(origins.data(), dirs.data(), n, 1e-4, hits.data(), found.get());
-    std::size_t hitsSeen = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        Hit single;
-        const bool f = accel.intersect(origins[i], dirs[i], 1e-4, std::numeric_limits<double>::infinity(), single);
-        ASSERT_EQ(found[i], f) << "ray " << i;
-        if (!f) continue;
-        ++hitsSeen;
-        EXPECT_EQ(hits[i].prim, single.prim) << "ray " << i;
-        EXPECT_EQ(hits[i].t, single.t) << "ray " << i;
-        EXPECT_EQ(hits[i].u, single.u) << "ray " << i;
-        EXPECT_EQ(hits[i].v, single.v) << "ray " << i;
-    }
-    EXPECT_GT(hitsSeen, n / 2);  // the open box: most rays from inside hit a wall
-    EXPECT_LT(hitsSeen, n) << "and some leave it";
+    EXPECT_GT(hitsSeen, raysSeen / 2);  // the open box: most rays from inside hit a wall
+    EXPECT_LT(hitsSeen, raysSeen) << "and some leave it";
+    EXPECT_GT(blockedSeen, raysSeen / 20) << "the blocks and walls stop some shadow rays";
+    EXPECT_GT(clearSeen, raysSeen / 5);
+}
+
+TEST(Accel, EachRayOfItsOwnOriginAnswersAsTheSingleRayQueriesDo) {
+    expectEachMatchesSingleRays(false);
+    expectEachMatchesSingleRays(true);
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ void cutOutFilter(const RTCFilterFunctionNArguments* args) {
 
 }  // namespace
 
-Accel::Accel(const Scene& scene) {
+Accel::Accel(const Scene& scene, bool packets) {
     device_ = rtcNewDevice(nullptr);
     if (!device_)
         throw std::runtime_error(fmt::format("cannot create the Embree device (error {})", static_cast<int>(rtcGetDeviceError(nullptr))));
@@ -65,8 +65,8 @@ Accel::Accel(const Scene& scene) {
     rtcReleaseGeometry(geom);
     rtcCommitScene(scene_);
     if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw std::runtime_error("Embree failed to build the scene");
-    packets_ = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0 ||
-               rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_RAY_STREAM_SUPPORTED) != 0;
+    packets_ = packets && (rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0 ||
+                           rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_RAY_STREAM_SUPPORTED) != 0);
 }
 
 Accel::~Accel() {
@@ -113,9 +113,68 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
     return closestHit(scene_, log_, o, d, tnear, tfar, hit);
 }
 
+namespace {
+
+/// Closest hits of `count` <= 16 rays as one 16-wide packet (rtcIntersect16): ray k from origin(k) along
+/// direction(k), t in (tnear, inf); inactive lanes repeat the last valid ray.
+template <class Origin, class Direction>
+void closestHits16(RTCScene scene, std::vector<RayQuery>* log, std::size_t count, const Origin& origin, const Direction& direction,
+                   double tnear, bool coherent, Hit* hits, bool* found) {
+    alignas(64) int valid[16];
+    alignas(64) RTCRayHit16 rh;
+    for (std::size_t k = 0; k < 16; ++k) {
+        valid[k] = k < count ? -1 : 0;
+        const std::size_t i = std::min(k, count - 1);
+        const Vec3& o = origin(i);
+        const Vec3& d = direction(i);
+        rh.ray.org_x[k] = static_cast<float>(o.x);
+        rh.ray.org_y[k] = static_cast<float>(o.y);
+        rh.ray.org_z[k] = static_cast<float>(o.z);
+        rh.ray.dir_x[k] = static_cast<float>(d.x);
+        rh.ray.dir_y[k] = static_cast<float>(d.y);
+        rh.ray.dir_z[k] = static_cast<float>(d.z);
+        rh.ray.tnear[k] = static_cast<float>(tnear);
+        rh.ray.tfar[k] = std::numeric_limits<float>::infinity();
+        rh.ray.time[k] = 0;
+        rh.ray.mask[k] = 0xFFFFFFFFu;
+        rh.ray.id[k] = static_cast<unsigned>(k);
+        rh.ray.flags[k] = 0;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (log) [[unlikely]]
+        for (std::size_t k = 0; k < count; ++k)
+            log->push_back({{rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k]},
+                            {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]},
+                            rh.ray.tnear[k],
+                            rh.ray.tfar[k],
+                            false});
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect16(valid, scene, &ctx, &rh);
+    for (std::size_t k = 0; k < count; ++k) {
+        found[k] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+        if (!found[k]) continue;
+        hits[k].t = rh.ray.tfar[k];
+        hits[k].prim = rh.hit.primID[k];
+        hits[k].u = rh.hit.u[k];
+        hits[k].v = rh.hit.v[k];
+    }
+}
+
+}  // namespace
+
 void Accel::intersectEach(const Vec3* o, const Vec3* d, std::size_t n, double tnear, Hit* hits, bool* found) const {
-    for (std::size_t i = 0; i < n; ++i)
-        found[i] = closestHit(scene_, log_, o[i], d[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
+    if (!packets_ || n <= kSingleRaysUpTo) {
+        for (std::size_t i = 0; i < n; ++i)
+            found[i] = closestHit(scene_, log_, o[i], d[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
+        return;
+    }
+    for (std::size_t first = 0; first < n; first += 16)
+        closestHits16(
+            scene_, log_, std::min<std::size_t>(16, n - first), [&](std::size_t k) -> const Vec3& { return o[first + k]; },
+            [&](std::size_t k) -> const Vec3& { return d[first + k]; }, tnear, false, hits + first, found + first);
 }
 
 void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, double tnear, Hit* hits, bool* found, bool coherent) const {
@@ -125,47 +184,10 @@ void Accel::intersectBundle(const Vec3& o, const Vec3* dirs, std::size_t n, doub
         for (std::size_t i = 0; i < n; ++i) found[i] = intersect(o, dirs[i], tnear, std::numeric_limits<double>::infinity(), hits[i]);
         return;
     }
-    const float ox = static_cast<float>(o.x), oy = static_cast<float>(o.y), oz = static_cast<float>(o.z);
-    for (std::size_t first = 0; first < n; first += 16) {
-        const std::size_t count = std::min<std::size_t>(16, n - first);
-        alignas(64) int valid[16];
-        alignas(64) RTCRayHit16 rh;
-        for (std::size_t k = 0; k < 16; ++k) {
-            valid[k] = k < count ? -1 : 0;
-            const Vec3& d = dirs[first + std::min(k, count - 1)];  // inactive lanes repeat a valid ray
-            rh.ray.org_x[k] = ox;
-            rh.ray.org_y[k] = oy;
-            rh.ray.org_z[k] = oz;
-            rh.ray.dir_x[k] = static_cast<float>(d.x);
-            rh.ray.dir_y[k] = static_cast<float>(d.y);
-            rh.ray.dir_z[k] = static_cast<float>(d.z);
-            rh.ray.tnear[k] = static_cast<float>(tnear);
-            rh.ray.tfar[k] = std::numeric_limits<float>::infinity();
-            rh.ray.time[k] = 0;
-            rh.ray.mask[k] = 0xFFFFFFFFu;
-            rh.ray.id[k] = static_cast<unsigned>(k);
-            rh.ray.flags[k] = 0;
-            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-        }
-        if (log_) [[unlikely]]
-            for (std::size_t k = 0; k < count; ++k)
-                log_->push_back(
-                    {{ox, oy, oz}, {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]}, rh.ray.tnear[k], rh.ray.tfar[k], false});
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        rtcIntersect16(valid, scene_, &ctx, &rh);
-        for (std::size_t k = 0; k < count; ++k) {
-            found[first + k] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-            if (!found[first + k]) continue;
-            Hit& h = hits[first + k];
-            h.t = rh.ray.tfar[k];
-            h.prim = rh.hit.primID[k];
-            h.u = rh.hit.u[k];
-            h.v = rh.hit.v[k];
-        }
-    }
+    for (std::size_t first = 0; first < n; first += 16)
+        closestHits16(
+            scene_, log_, std::min<std::size_t>(16, n - first), [&](std::size_t) -> const Vec3& { return o; },
+            [&](std::size_t k) -> const Vec3& { return dirs[first + k]; }, tnear, coherent, hits + first, found + first);
 }
 
 bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) const {
@@ -188,6 +210,45 @@ bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) co
         log_->push_back({{ray.org_x, ray.org_y, ray.org_z}, {ray.dir_x, ray.dir_y, ray.dir_z}, ray.tnear, ray.tfar, true});
     rtcOccluded1(scene_, &ctx, &ray);
     return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+void Accel::occludedEach(const ShadowRay* rays, std::size_t n, bool* blocked) const {
+    if (!packets_ || n <= kSingleRaysUpTo) {
+        for (std::size_t i = 0; i < n; ++i) blocked[i] = occluded(rays[i].o, rays[i].d, 0.0, rays[i].tfar);
+        return;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (std::size_t first = 0; first < n; first += 16) {
+        const std::size_t count = std::min<std::size_t>(16, n - first);
+        alignas(64) int valid[16];
+        alignas(64) RTCRay16 ray;
+        for (std::size_t k = 0; k < 16; ++k) {
+            valid[k] = k < count ? -1 : 0;
+            const ShadowRay& r = rays[first + std::min(k, count - 1)];  // inactive lanes repeat a valid ray
+            ray.org_x[k] = static_cast<float>(r.o.x);
+            ray.org_y[k] = static_cast<float>(r.o.y);
+            ray.org_z[k] = static_cast<float>(r.o.z);
+            ray.dir_x[k] = static_cast<float>(r.d.x);
+            ray.dir_y[k] = static_cast<float>(r.d.y);
+            ray.dir_z[k] = static_cast<float>(r.d.z);
+            ray.tnear[k] = 0.0f;
+            ray.tfar[k] = static_cast<float>(r.tfar);
+            ray.time[k] = 0;
+            ray.mask[k] = 0xFFFFFFFFu;
+            ray.id[k] = static_cast<unsigned>(k);
+            ray.flags[k] = 0;
+        }
+        if (log_) [[unlikely]]
+            for (std::size_t k = 0; k < count; ++k)
+                log_->push_back({{ray.org_x[k], ray.org_y[k], ray.org_z[k]},
+                                 {ray.dir_x[k], ray.dir_y[k], ray.dir_z[k]},
+                                 ray.tnear[k],
+                                 ray.tfar[k],
+                                 true});
+        rtcOccluded16(valid, scene_, &ctx, &ray);
+        for (std::size_t k = 0; k < count; ++k) blocked[first + k] = ray.tfar[k] < 0;  // Embree sets tfar to -inf on a hit
+    }
 }
 
 std::string embreeVersion() { return RTC_VERSION_STRING; }

@@ -1,6 +1,7 @@
 // accel/ — ray queries. Owns the Intel Embree 3 device and scene built from a Scene's triangles, and
-// answers closest-hit and any-hit (shadow) queries for single rays and closest-hit queries for bundles
-// of rays from one origin (16-wide packets: a set estimator's directions, a tile's camera rays). Geometry
+// answers closest-hit and any-hit (shadow) queries for single rays, and for batches of them as 16-wide
+// packets: closest hits of bundles of rays from one origin (a set estimator's directions, a tile's camera
+// rays), and closest hits and shadow queries of rays that do not share one (a wavefront's depth). Geometry
 // crosses into float here; everything above it stays in double. On request it records every query as
 // Embree was given it (RayQuery), so that bench/ can trace a render's own rays again with Embree alone.
 #pragma once
@@ -31,20 +32,31 @@ struct RayQuery {
     bool shadow;
 };
 
+/// A shadow (any-hit) query: o + t d for t in (0, tfar).
+struct ShadowRay {
+    Vec3 o, d;
+    double tfar = 0;
+};
+
 class Accel {
 public:
     /// Builds the BVH of the scene's triangles. A scene with cut-out materials keeps a pointer to
     /// `scene` (its filter reads the alpha textures during queries), so it must outlive the Accel.
-    explicit Accel(const Scene& scene);
+    /// `packets`: batches of rays (bundles, intersectEach, occludedEach) go to Embree as 16-wide packets where
+    /// the device supports them; false: one by one, so that every query answers exactly as intersect() and
+    /// occluded() do (a packet's kernels can differ from them in float round-off: a grazing ray's answer).
+    explicit Accel(const Scene& scene, bool packets = true);
     ~Accel();
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
 
     /// Closest hit along o + t d, t in (tnear, tfar). d need not be unit length.
     bool intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, Hit& hit) const;
-    /// intersect() of n rays o[i] + t d[i], t in (tnear, inf), one by one (rays that do not share an origin:
-    /// a wavefront's bounce rays): found[i] whether ray i hit, hits[i] its hit. The same answers, bit for bit.
-    /// Its own copy of the query, so that the path tracer's single call of intersect() stays inlined there.
+    /// Closest hits of n rays o[i] + t d[i], t in (tnear, inf), that do not share an origin (a wavefront's bounce
+    /// rays): found[i] whether ray i hit, hits[i] its hit. As 16-wide packets (rtcIntersect16) where the device
+    /// supports them and n > kSingleRaysUpTo (the answers of intersect() to float round-off), else one by one
+    /// with its own copy of intersect()'s query (bit for bit; its own copy so that the path tracer's single
+    /// call of intersect() stays inlined there).
     void intersectEach(const Vec3* o, const Vec3* d, std::size_t n, double tnear, Hit* hits, bool* found) const;
     /// Closest hits of n rays o + t dirs[i], t in (tnear, inf), sharing the origin o: traced as 16-wide
     /// Embree packets (rtcIntersect16) where the device supports them, else one by one. found[i] says
@@ -57,6 +69,10 @@ public:
     static constexpr std::size_t kSingleRaysUpTo = 4;
     /// Whether anything blocks o + t d for t in (tnear, tfar).
     bool occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) const;
+    /// occluded() of n shadow rays that do not share an origin (a wavefront's light samples of one depth),
+    /// t in (0, tfar): blocked[i] whether ray i is blocked. Traced as 16-wide packets (rtcOccluded16) where
+    /// the device supports them and n > kSingleRaysUpTo, else one by one.
+    void occludedEach(const ShadowRay* rays, std::size_t n, bool* blocked) const;
 
     RTCSceneTy* handle() const { return scene_; }
 

@@ -1,4 +1,5 @@
 #include "render/path_tracer.h"
+#include "render/next_event.h"
 #include "sampling/sobol_lanes.h"
 
 #include "math/frame.h"
@@ -376,27 +377,13 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
 // delta emitter: f E cos / pick, no MIS, since no path can hit it).
 DirectLight PathTracer::directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u,
                                     TraceStats& stats, bool shadowed) const {
-    DirectLight out;
-    EmitterSample s;
-    if (!emitters_.sample(p, u, s) || dot(s.wi, ng) <= 0) return out;
-    const Vec3 wiLocal = frame.toLocal(s.wi);
-    if (wiLocal.z <= 0) return out;
-    const Color f = evalPhong(*sc.material, sc.wo, wiLocal) * (shadowed ? bumpShadowing(ng, frame.n, s.wi) : 1.0);
-    if (isBlack(f)) return out;
-    const Vec3 origin = p + ng * epsilon_;
+    ShadowRay ray;
+    LightSample ls;
+    if (!lightSample(p, ng, frame, sc, u, shadowed, ray, ls)) return DirectLight{};
     ++stats.rays;
-    const bool blocked = s.toInfinity ? accel_.occluded(origin, s.wi, 0.0, std::numeric_limits<double>::infinity())
-                                      : accel_.occluded(origin, s.target - origin, 0.0, 1.0 - 1e-5);
-    if (blocked) return out;
-    if (s.delta) {
-        out.unweighted = f * s.radiance * (wiLocal.z / s.pdf);
-        out.delta = true;
-        return out;
-    }
-    out.unweighted = f * (s.radianceLater ? emitters_.background().backgroundRadiance(s.wi) : s.radiance);
-    out.cosine = wiLocal.z;
-    out.lightPdf = s.pdf;
-    out.estimatorPdf = estimator_.misPdf(sc, wiLocal);
+    if (accel_.occluded(ray.o, ray.d, 0.0, ray.tfar)) return DirectLight{};
+    DirectLight out = litBy(ls);
+    if (!out.delta) out.estimatorPdf = estimator_.misPdf(sc, ls.wiLocal);  // only for a clear ray
     return out;
 }
 

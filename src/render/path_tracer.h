@@ -9,6 +9,7 @@
 #include "estimators/symmetric_mix.h"
 #include "lights/emitters.h"
 #include "math/frame.h"
+#include "render/direct_light.h"
 #include "render/wavefront.h"
 #include "scene/scene.h"
 #include "scene/shading_normal.h"
@@ -112,22 +113,6 @@ struct RayBundle {
     std::size_t capacity = 0;    ///< length of `found`
 };
 
-/// Next-event estimation's contribution at a vertex before its MIS weight (PathTracer::directLight). As
-/// made, nothing: f L = 0 at a density of 1, which value() weighs to an exact 0 by the same formula as a
-/// sample that arrived (whether the shadow ray got through is a coin toss per vertex: no branch on it).
-struct DirectLight {
-    Color unweighted{0.0};    ///< f L (a delta emitter: the whole contribution)
-    double cosine = 0;        ///< cos theta of the light's direction
-    double lightPdf = 1;      ///< the light sample's density (solid angle), > 0
-    double estimatorPdf = 0;  ///< the estimator's MIS density of that direction for one call
-    bool delta = false;       ///< from a delta emitter: `unweighted` is the contribution, nothing to weigh
-
-    /// The contribution with MIS against `misScale` estimator calls at the vertex (the first hit's split
-    /// count k, EARS's q, else 1): f L cos w / p, w the power heuristic of the light's density against the
-    /// density of all of those calls together.
-    Color value(double misScale) const;
-};
-
 /// Per-thread working memory of the path tracer.
 struct PathScratch {
     CacheLineVector<DirectionList> directions;  ///< one buffer per depth (each alone on its cache lines: util/cache_line.h)
@@ -200,8 +185,9 @@ private:
     void fillAhead(WavefrontBatch& batch, std::size_t count, std::uint32_t spp, int depth) const;
     /// The vertex that w's ray reached: its terms in `terms`; true with w set to the continuing ray (depth + 1),
     /// false where the path ends (terms.own then the path's last value: the vertex's own terms, or what the ray
-    /// met leaving the scene).
-    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc) const;
+    /// met leaving the scene). `lit`: its light sample waits for its shadow ray (`shadow`, `light`), which the
+    /// caller traces with the depth's others and whose term it adds to terms.own where the ray is clear.
+    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc, ShadowRay& shadow, LightSample& light, bool& lit) const;
     /// cameraRadiances of the same camera rays with their paths taken depth by depth: every path's vertex at
     /// depth d before any path's at d + 1.
     void cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
@@ -283,6 +269,12 @@ private:
     /// traversal hides the wait for the factor's cache line.
     DirectLight directLight(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, TraceStats& stats,
                             bool shadowed) const;
+    /// directLight's steps before and after its shadow ray, for the wavefront, which traces a depth's shadow
+    /// rays together: false where the sample contributes nothing (no shadow ray); else its shadow ray and what
+    /// it contributes once the ray is clear (litBy).
+    bool lightSample(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, bool shadowed, ShadowRay& ray,
+                     LightSample& ls) const;
+    DirectLight litBy(const LightSample& ls) const;
     /// Radiance of a ray that left the scene along d: the background (MIS-weighted against its light
     /// sampling from the previous vertex when it is light-sampled); `emitted`: the background unweighted.
     Color escaped(const Vec3& d, int depth, double prevMisPdf, Color& emitted) const;

@@ -1,12 +1,15 @@
 // A batch of camera samples' paths depth by depth (PathTracer's members for it; the recursive tracer is in
 // path_tracer.cpp; the batch's state in wavefront.h): every path of the batch takes its vertex at depth d before any
 // takes its vertex at d + 1, each vertex keeping its terms (VertexTerms) and handing on the next ray, instead of
-// shade() calling itself for the next vertex and adding on the way back; the closest-hit queries of a depth's
-// continuing rays go to Embree together, and the sampler's values of a depth's vertices are computed together in
-// vector lanes (sobol_lanes.h). The same decisions at the same sample dimensions as the recursive tracer, so the
-// same paths, and each path's terms summed at its end from the last vertex back, in shade()'s order: the same
-// radiance bit for bit (docs/performance.md "The second tracer").
+// shade() calling itself for the next vertex and adding on the way back; a depth's shadow rays, then its
+// continuing rays, go to Embree together (16-wide packets: Accel::occludedEach, intersectEach), and the sampler's
+// values of a depth's vertices are computed together in vector lanes (sobol_lanes.h). The same decisions at the
+// same sample dimensions as the recursive tracer, so the same paths, and each path's terms summed at its end from
+// the last vertex back, in shade()'s order: the same radiance bit for bit where Embree answers each query as the
+// single-ray one does (an Accel without packets); with packets, the same but for the rare grazing ray that a
+// packet's kernels round otherwise (docs/performance.md "The second tracer", "Shadow and bounce rays in packets").
 #include "math/frame.h"
+#include "render/next_event.h"
 #include "render/path_tracer.h"
 #include "sampling/sobol_lanes.h"
 #include "scene/shading_normal.h"
@@ -18,7 +21,7 @@ namespace symphong {
 
 // shade() and continuePath() for one continuation a vertex (tracesAsWavefront): their code in their order,
 // with the continuation handed back in `w` instead of traced.
-bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc) const {
+bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, ShadowRay& shadow, LightSample& light, bool& lit) const {
     const int depth = w.depth;
     if (!w.found) {
         Color emitted;
@@ -58,8 +61,11 @@ bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc) const
     const ShadingContext sc{wo, &mat, depth, depth == 0};
     SampleStream& samples = pc.samples;
     if (lightSampling_) {
+        // directLight up to its shadow ray, which the depth's loop traces with the others (its term is
+        // added to `own` then: shadow's L += value(1), after the emission, in its order).
         samples.setDimension(SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
-        L += directLight(p, ng, frame, sc, samples.get2D(), pc.stats, shadowed).value(1);
+        lit = lightSample(p, ng, frame, sc, samples.get2D(), shadowed, shadow, light);
+        if (lit && !light.light.delta) light.light.estimatorPdf = estimator_.misPdf(sc, light.wiLocal);  // sc's material: this vertex's
     }
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
@@ -125,12 +131,20 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
         if (ahead) fillAhead(b, count, spp, static_cast<int>(depth));
         if (b.terms.size() <= depth) b.terms.resize(depth + 1);
         auto& terms = b.terms[depth];
-        std::size_t kept = 0;
+        std::size_t kept = 0, lit = 0;
         for (std::size_t i = 0; i < count; ++i) {
             const std::size_t k = b.live[i];
             PathContext pc{streams[k], stats, scratch};
-            if (advance(b.paths[k], terms[k], pc)) b.live[kept++] = static_cast<std::uint16_t>(k);
+            bool sampled = false;
+            if (advance(b.paths[k], terms[k], pc, b.shadowRays[lit], b.lights[lit], sampled))
+                b.live[kept++] = static_cast<std::uint16_t>(k);
+            if (sampled) b.lit[lit++] = static_cast<std::uint16_t>(k);
         }
+        // The depth's shadow rays together; a clear one's term joins its vertex's own.
+        accel_.occludedEach(b.shadowRays.data(), lit, b.blocked.data());
+        stats.rays += lit;
+        for (std::size_t i = 0; i < lit; ++i)
+            if (!b.blocked[i]) terms[b.lit[i]].own += litBy(b.lights[i]).value(1);
         count = kept;
         for (std::size_t i = 0; i < count; ++i) {
             b.origins[i] = b.paths[b.live[i]].o;

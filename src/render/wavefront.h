@@ -7,6 +7,7 @@
 
 #include "accel/accel.h"
 #include "math/vec3.h"
+#include "render/direct_light.h"
 #include "sampling/sampler.h"
 
 #include <array>
@@ -47,6 +48,11 @@ struct WavefrontBatch {
     std::array<Hit, kSize> hits;
     std::array<bool, kSize> found;
     std::array<Vec3, kSize> origins, directions;  ///< the continuing rays, for Accel::intersectEach
+    // A depth's light samples, their shadow rays traced together after the depth's vertices (Accel::occludedEach).
+    std::array<ShadowRay, kSize> shadowRays;
+    std::array<LightSample, kSize> lights;
+    std::array<std::uint16_t, kSize> lit;  ///< the path of each
+    std::array<bool, kSize> blocked;
     // The sampler's values computed ahead (PathTracer::fillAhead): the paths at a surface, their keys and
     // indices, the values that their streams read (SampleStream::readAhead), the lanes' output.
     std::array<std::uint64_t, kSize> keys;       ///< path k's pixel key
