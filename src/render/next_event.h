@@ -15,7 +15,14 @@ namespace symphong {
 [[gnu::always_inline]] inline bool PathTracer::lightSample(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc,
                                                            Point2 u, bool shadowed, ShadowRay& ray, LightSample& ls) const {
     EmitterSample s;
-    if (!emitters_.sample(p, u, s) || dot(s.wi, ng) <= 0) return false;
+    const bool sampled = emitters_.sample(p, u, s);
+    return lightSampleOf(sampled, s, p, ng, frame, sc, shadowed, ray, ls);
+}
+
+[[gnu::always_inline]] inline bool PathTracer::lightSampleOf(bool sampled, const EmitterSample& s, const Vec3& p, const Vec3& ng,
+                                                             const Frame& frame, const ShadingContext& sc, bool shadowed, ShadowRay& ray,
+                                                             LightSample& ls) const {
+    if (!sampled || dot(s.wi, ng) <= 0) return false;
     const Vec3 wiLocal = frame.toLocal(s.wi);
     if (wiLocal.z <= 0) return false;
     const Color f = evalPhong(*sc.material, sc.wo, wiLocal) * (shadowed ? bumpShadowing(ng, frame.n, s.wi) : 1.0);

@@ -181,13 +181,17 @@ private:
                    PathContext& pc) const;
     /// The sampler's values that the batch's live paths at a surface read at `depth` (the light sample, the
     /// estimator's pair, the roulette), computed for all of them at once in the lanes of sobol_lanes.h and
-    /// read through their streams (SampleStream::readAhead): the values advance() would compute.
+    /// read through their streams (SampleStream::readAhead): the values advance() would compute; and from the
+    /// light pairs, the emitters' samples at those paths' points (WavefrontBatch::emitterSamples).
     void fillAhead(WavefrontBatch& batch, std::size_t count, std::uint32_t spp, int depth) const;
     /// The vertex that w's ray reached: its terms in `terms`; true with w set to the continuing ray (depth + 1),
     /// false where the path ends (terms.own then the path's last value: the vertex's own terms, or what the ray
     /// met leaving the scene). `lit`: its light sample waits for its shadow ray (`shadow`, `light`), which the
     /// caller traces with the depth's others and whose term it adds to terms.own where the ray is clear.
-    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc, ShadowRay& shadow, LightSample& light, bool& lit) const;
+    /// `emitterAhead`: the vertex's emitter sample drawn ahead (fillAhead), `sampledAhead` its answer; nullptr:
+    /// drawn here.
+    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc, const EmitterSample* emitterAhead, bool sampledAhead, ShadowRay& shadow,
+                 LightSample& light, bool& lit) const;
     /// cameraRadiances of the same camera rays with their paths taken depth by depth: every path's vertex at
     /// depth d before any path's at d + 1.
     void cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
@@ -275,6 +279,9 @@ private:
     bool lightSample(const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc, Point2 u, bool shadowed, ShadowRay& ray,
                      LightSample& ls) const;
     DirectLight litBy(const LightSample& ls) const;
+    /// lightSample after its emitter's sample `s` (`sampled`: what SceneEmitters::sample returned).
+    bool lightSampleOf(bool sampled, const EmitterSample& s, const Vec3& p, const Vec3& ng, const Frame& frame, const ShadingContext& sc,
+                       bool shadowed, ShadowRay& ray, LightSample& ls) const;
     /// Radiance of a ray that left the scene along d: the background (MIS-weighted against its light
     /// sampling from the previous vertex when it is light-sampled); `emitted`: the background unweighted.
     Color escaped(const Vec3& d, int depth, double prevMisPdf, Color& emitted) const;

@@ -21,7 +21,8 @@ namespace symphong {
 
 // shade() and continuePath() for one continuation a vertex (tracesAsWavefront): their code in their order,
 // with the continuation handed back in `w` instead of traced.
-bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, ShadowRay& shadow, LightSample& light, bool& lit) const {
+bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, const EmitterSample* emitterAhead, bool sampledAhead,
+                         ShadowRay& shadow, LightSample& light, bool& lit) const {
     const int depth = w.depth;
     if (!w.found) {
         Color emitted;
@@ -63,8 +64,12 @@ bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, Shado
     if (lightSampling_) {
         // directLight up to its shadow ray, which the depth's loop traces with the others (its term is
         // added to `own` then: shadow's L += value(1), after the emission, in its order).
-        samples.setDimension(SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
-        lit = lightSample(p, ng, frame, sc, samples.get2D(), shadowed, shadow, light);
+        if (emitterAhead) {
+            lit = lightSampleOf(sampledAhead, *emitterAhead, p, ng, frame, sc, shadowed, shadow, light);
+        } else {
+            samples.setDimension(SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
+            lit = lightSample(p, ng, frame, sc, samples.get2D(), shadowed, shadow, light);
+        }
         if (lit && !light.light.delta) light.light.estimatorPdf = estimator_.misPdf(sc, light.wiLocal);  // sc's material: this vertex's
     }
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
@@ -128,6 +133,7 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
             streams[k].readAhead(&b.ahead[k]);
         }
     for (std::size_t count = n, depth = 0; count > 0; ++depth) {
+        b.emittersAhead = false;
         if (ahead) fillAhead(b, count, spp, static_cast<int>(depth));
         if (b.terms.size() <= depth) b.terms.resize(depth + 1);
         auto& terms = b.terms[depth];
@@ -136,7 +142,8 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
             const std::size_t k = b.live[i];
             PathContext pc{streams[k], stats, scratch};
             bool sampled = false;
-            if (advance(b.paths[k], terms[k], pc, b.shadowRays[lit], b.lights[lit], sampled))
+            const EmitterSample* emitterAhead = b.emittersAhead ? &b.emitterSamples[k] : nullptr;
+            if (advance(b.paths[k], terms[k], pc, emitterAhead, b.emitterSampled[k], b.shadowRays[lit], b.lights[lit], sampled))
                 b.live[kept++] = static_cast<std::uint16_t>(k);
             if (sampled) b.lit[lit++] = static_cast<std::uint16_t>(k);
         }
@@ -193,7 +200,20 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
         }
     };
     // advance()'s reads at this depth, at its dimensions: the light sample, the estimator's pair, the roulette.
-    if (lightSampling_) pairs(0, SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
+    if (lightSampling_) {
+        pairs(0, SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
+        // The emitters' samples from those pairs, at the points advance() will shade (its p: the same bits), in
+        // a loop of their own: each sample's chain of square roots and divisions waits on the one before, and
+        // samples of different paths side by side overlap those waits (docs/performance.md "The emitters'
+        // samples ahead"). A path that ends before its light sample (wo below its surface) drew one for nothing.
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::size_t k = b.at[i];
+            const WavePath& w = b.paths[k];
+            const Vec3 p = w.o + w.d * w.hit.t;
+            b.emitterSampled[k] = emitters_.sample(p, {b.us[i], b.vs[i]}, b.emitterSamples[k]);
+        }
+        b.emittersAhead = true;
+    }
     pairs(1, depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream)
                         : SampleDimensions::vertex(depth, 0) + SampleDimensions::kEstimator);
     if (depth + 1 >= settings_.rrDepth) {

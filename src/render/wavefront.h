@@ -6,6 +6,7 @@
 #pragma once
 
 #include "accel/accel.h"
+#include "lights/emitter.h"
 #include "math/vec3.h"
 #include "render/direct_light.h"
 #include "sampling/sampler.h"
@@ -62,6 +63,11 @@ struct WavefrontBatch {
     std::array<std::uint32_t, kSize> atIndices;  ///< their sample indices
     std::array<AheadValues, kSize> ahead;
     std::array<double, kSize> us, vs;
+    /// The emitters' samples of the paths at a surface, drawn ahead of their vertices from the light pairs
+    /// computed ahead (PathTracer::fillAhead): SceneEmitters::sample's output and its answer.
+    std::array<EmitterSample, kSize> emitterSamples;
+    std::array<bool, kSize> emitterSampled;
+    bool emittersAhead = false;
 };
 
 }  // namespace symphong
