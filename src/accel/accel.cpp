@@ -115,6 +115,29 @@ bool Accel::intersect(const Vec3& o, const Vec3& d, double tnear, double tfar, H
 
 namespace {
 
+/// Lane k of a 16-wide packet: o + t d, t in (tnear, tfar), in float as Embree takes it.
+void setLane(RTCRay16& ray, std::size_t k, const Vec3& o, const Vec3& d, double tnear, float tfar) {
+    ray.org_x[k] = static_cast<float>(o.x);
+    ray.org_y[k] = static_cast<float>(o.y);
+    ray.org_z[k] = static_cast<float>(o.z);
+    ray.dir_x[k] = static_cast<float>(d.x);
+    ray.dir_y[k] = static_cast<float>(d.y);
+    ray.dir_z[k] = static_cast<float>(d.z);
+    ray.tnear[k] = static_cast<float>(tnear);
+    ray.tfar[k] = tfar;
+    ray.time[k] = 0;
+    ray.mask[k] = 0xFFFFFFFFu;
+    ray.id[k] = static_cast<unsigned>(k);
+    ray.flags[k] = 0;
+}
+
+/// Records a packet's first `count` lanes as Embree got them (Accel::record).
+void logPacket(std::vector<RayQuery>& log, const RTCRay16& ray, std::size_t count, bool shadow) {
+    for (std::size_t k = 0; k < count; ++k)
+        log.push_back(
+            {{ray.org_x[k], ray.org_y[k], ray.org_z[k]}, {ray.dir_x[k], ray.dir_y[k], ray.dir_z[k]}, ray.tnear[k], ray.tfar[k], shadow});
+}
+
 /// Closest hits of `count` <= 16 rays as one 16-wide packet (rtcIntersect16): ray k from origin(k) along
 /// direction(k), t in (tnear, inf); inactive lanes repeat the last valid ray.
 template <class Origin, class Direction>
@@ -125,30 +148,12 @@ void closestHits16(RTCScene scene, std::vector<RayQuery>* log, std::size_t count
     for (std::size_t k = 0; k < 16; ++k) {
         valid[k] = k < count ? -1 : 0;
         const std::size_t i = std::min(k, count - 1);
-        const Vec3& o = origin(i);
-        const Vec3& d = direction(i);
-        rh.ray.org_x[k] = static_cast<float>(o.x);
-        rh.ray.org_y[k] = static_cast<float>(o.y);
-        rh.ray.org_z[k] = static_cast<float>(o.z);
-        rh.ray.dir_x[k] = static_cast<float>(d.x);
-        rh.ray.dir_y[k] = static_cast<float>(d.y);
-        rh.ray.dir_z[k] = static_cast<float>(d.z);
-        rh.ray.tnear[k] = static_cast<float>(tnear);
-        rh.ray.tfar[k] = std::numeric_limits<float>::infinity();
-        rh.ray.time[k] = 0;
-        rh.ray.mask[k] = 0xFFFFFFFFu;
-        rh.ray.id[k] = static_cast<unsigned>(k);
-        rh.ray.flags[k] = 0;
+        setLane(rh.ray, k, origin(i), direction(i), tnear, std::numeric_limits<float>::infinity());
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
     if (log) [[unlikely]]
-        for (std::size_t k = 0; k < count; ++k)
-            log->push_back({{rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k]},
-                            {rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]},
-                            rh.ray.tnear[k],
-                            rh.ray.tfar[k],
-                            false});
+        logPacket(*log, rh.ray, count, false);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -226,26 +231,10 @@ void Accel::occludedEach(const ShadowRay* rays, std::size_t n, bool* blocked) co
         for (std::size_t k = 0; k < 16; ++k) {
             valid[k] = k < count ? -1 : 0;
             const ShadowRay& r = rays[first + std::min(k, count - 1)];  // inactive lanes repeat a valid ray
-            ray.org_x[k] = static_cast<float>(r.o.x);
-            ray.org_y[k] = static_cast<float>(r.o.y);
-            ray.org_z[k] = static_cast<float>(r.o.z);
-            ray.dir_x[k] = static_cast<float>(r.d.x);
-            ray.dir_y[k] = static_cast<float>(r.d.y);
-            ray.dir_z[k] = static_cast<float>(r.d.z);
-            ray.tnear[k] = 0.0f;
-            ray.tfar[k] = static_cast<float>(r.tfar);
-            ray.time[k] = 0;
-            ray.mask[k] = 0xFFFFFFFFu;
-            ray.id[k] = static_cast<unsigned>(k);
-            ray.flags[k] = 0;
+            setLane(ray, k, r.o, r.d, 0.0, static_cast<float>(r.tfar));
         }
         if (log_) [[unlikely]]
-            for (std::size_t k = 0; k < count; ++k)
-                log_->push_back({{ray.org_x[k], ray.org_y[k], ray.org_z[k]},
-                                 {ray.dir_x[k], ray.dir_y[k], ray.dir_z[k]},
-                                 ray.tnear[k],
-                                 ray.tfar[k],
-                                 true});
+            logPacket(*log_, ray, count, true);
         rtcOccluded16(valid, scene_, &ctx, &ray);
         for (std::size_t k = 0; k < count; ++k) blocked[first + k] = ray.tfar[k] < 0;  // Embree sets tfar to -inf on a hit
     }

@@ -132,8 +132,9 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
             b.indices[k] = streams[k].sampleIndex();
             streams[k].readAhead(&b.ahead[k]);
         }
+    // Where the values are computed ahead, so are the emitter samples, for every path that reaches its light sample.
+    const bool emittersAhead = ahead && lightSampling_;
     for (std::size_t count = n, depth = 0; count > 0; ++depth) {
-        b.emittersAhead = false;
         if (ahead) fillAhead(b, count, spp, static_cast<int>(depth));
         if (b.terms.size() <= depth) b.terms.resize(depth + 1);
         auto& terms = b.terms[depth];
@@ -142,7 +143,7 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
             const std::size_t k = b.live[i];
             PathContext pc{streams[k], stats, scratch};
             bool sampled = false;
-            const EmitterSample* emitterAhead = b.emittersAhead ? &b.emitterSamples[k] : nullptr;
+            const EmitterSample* emitterAhead = emittersAhead ? &b.emitterSamples[k] : nullptr;
             if (advance(b.paths[k], terms[k], pc, emitterAhead, b.emitterSampled[k], b.shadowRays[lit], b.lights[lit], sampled))
                 b.live[kept++] = static_cast<std::uint16_t>(k);
             if (sampled) b.lit[lit++] = static_cast<std::uint16_t>(k);
@@ -212,7 +213,6 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
             const Vec3 p = w.o + w.d * w.hit.t;
             b.emitterSampled[k] = emitters_.sample(p, {b.us[i], b.vs[i]}, b.emitterSamples[k]);
         }
-        b.emittersAhead = true;
     }
     pairs(1, depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream)
                         : SampleDimensions::vertex(depth, 0) + SampleDimensions::kEstimator);

@@ -67,7 +67,6 @@ struct WavefrontBatch {
     /// computed ahead (PathTracer::fillAhead): SceneEmitters::sample's output and its answer.
     std::array<EmitterSample, kSize> emitterSamples;
     std::array<bool, kSize> emitterSampled;
-    bool emittersAhead = false;
 };
 
 }  // namespace symphong
