@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <tuple>
 
 using namespace symphong;
 
@@ -220,4 +221,66 @@ TEST(EstimatorDensities, OneDirectionFollowsTheReportedMisPdf) {
             EXPECT_TRUE(r.passed) << name << " theta " << deg << ": " << r.describe();
         }
     }
+}
+
+// Estimator::drawAhead + sampleDrawn (the wavefront tracer's directions drawn ahead of their vertices) against
+// sample() from the stream whose first 2D value was drawn from: the same direction, weight and density, bit for
+// bit, for diffuse, glossy and purely specular materials at view angles up to 85 degrees; a null material's
+// slot is left as it was.
+TEST(EstimatorDrawAhead, DrawnDirectionsAreTheSampledOnes) {
+    std::vector<PhongMaterial> materials;
+    for (const auto& [kd, ks, n] : std::vector<std::tuple<double, double, double>>{
+             {0.8, 0.0, 1.0}, {0.2, 0.7, 1.0}, {0.2, 0.7, 10.0}, {0.3, 0.6, 100.0}, {0.05, 0.9, 1000.0}, {0.0, 0.9, 50.0}}) {
+        PhongMaterial m;
+        m.rhoD = Color(kd);
+        m.rhoS = Color(ks);
+        m.exponent = n;
+        materials.push_back(m);
+    }
+    int drawing = 0;
+    for (const auto& name : estimatorNames()) {
+        const auto est = makeEstimator(name);
+        if (!est->drawsAhead()) continue;
+        ++drawing;
+        test::Streams streams(77);
+        constexpr std::size_t kPoints = 4000;
+        std::vector<const PhongMaterial*> mats(kPoints);
+        std::vector<double> us(kPoints), vs(kPoints);
+        std::vector<ShadingContext> contexts(kPoints);
+        std::vector<DirectionList> sampled(kPoints);
+        for (std::size_t i = 0; i < kPoints; ++i) {
+            mats[i] = i % 97 == 5 ? nullptr : &materials[i % materials.size()];
+            const double deg = 85.0 * static_cast<double>(i % 13) / 12.0;
+            contexts[i] = {sphericalDirection(std::cos(deg * kPi / 180), 0.3 + 0.1 * static_cast<double>(i % 7)),
+                           &materials[i % materials.size()], static_cast<int>(i % 3), false};
+            SampleStream samples = streams.next();
+            SampleStream first = samples;
+            const Point2 u = first.get2D();
+            us[i] = u.u;
+            vs[i] = u.v;
+            est->sample(contexts[i], samples, sampled[i]);
+        }
+        const DirectionDraw untouched{Vec3(7.0, 8.0, 9.0), true};
+        std::vector<DirectionDraw> draws(kPoints, untouched);
+        est->drawAhead(mats.data(), us.data(), vs.data(), kPoints, draws.data());
+        std::size_t compared = 0;
+        for (std::size_t i = 0; i < kPoints; ++i) {
+            if (!mats[i]) {
+                EXPECT_TRUE(draws[i].local == untouched.local && draws[i].aroundMirror)
+                    << name << " point " << i << ": a null material's slot written";
+                continue;
+            }
+            DirectionList drawn;
+            est->sampleDrawn(contexts[i], draws[i], drawn);
+            ASSERT_EQ(drawn.size(), sampled[i].size()) << name << " point " << i;
+            for (std::size_t j = 0; j < drawn.size(); ++j) {
+                EXPECT_TRUE(drawn[j].wi == sampled[i][j].wi && drawn[j].weight == sampled[i][j].weight &&
+                            drawn[j].misPdf == sampled[i][j].misPdf)
+                    << name << " point " << i;
+                ++compared;
+            }
+        }
+        EXPECT_GT(compared, kPoints * 3 / 4) << name << ": most points give a direction above the surface";
+    }
+    EXPECT_GE(drawing, 1) << "phong draws ahead";
 }

@@ -31,13 +31,23 @@ double PhongLobeEstimator::diffuseProbability(const PhongMaterial& m) {
     return d + s > 0 ? d / (d + s) : 1.0;
 }
 
-Vec3 PhongLobeEstimator::sampleDirection(const ShadingContext& ctx, Point2 u) {
-    const PhongMaterial& m = *ctx.material;
+DirectionDraw PhongLobeEstimator::drawDirection(const PhongMaterial& m, Point2 u) {
     const double pd = diffuseProbability(m);
     // Lobe choice folded into u.u: [0, P_d) -> diffuse, [P_d, 1) -> specular, each rescaled to [0,1).
-    if (u.u < pd) return sampleCosineHemisphere({std::min(u.u / pd, kOneBelow), u.v});
-    const Vec3 r = mirrorDirection(ctx.wo);
-    return Frame::fromNormal(r).toWorld(samplePhongLobe({std::min((u.u - pd) / (1.0 - pd), kOneBelow), u.v}, m.exponent));
+    if (u.u < pd) return {sampleCosineHemisphere({std::min(u.u / pd, kOneBelow), u.v}), false};
+    return {samplePhongLobe({std::min((u.u - pd) / (1.0 - pd), kOneBelow), u.v}, m.exponent), true};
+}
+
+Vec3 PhongLobeEstimator::placeDirection(const Vec3& wo, const DirectionDraw& d) {
+    return d.aroundMirror ? Frame::fromNormal(mirrorDirection(wo)).toWorld(d.local) : d.local;
+}
+
+// Each point's chain (a division, a square root, pow or the sine's polynomial) is independent of the others':
+// a loop of its own lets the processor overlap them (docs/performance.md "The estimator's directions ahead").
+void PhongLobeEstimator::drawAhead(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
+                                   DirectionDraw* out) const {
+    for (std::size_t i = 0; i < n; ++i)
+        if (materials[i]) out[i] = drawDirection(*materials[i], {us[i], vs[i]});
 }
 
 double PhongLobeEstimator::directionPdf(const ShadingContext& ctx, const Vec3& wi) {
@@ -51,11 +61,14 @@ double PhongLobeEstimator::directionPdf(const ShadingContext& ctx, const Vec3& w
     return pdf;
 }
 
+void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
+    weigh(ctx, sampleDirection(ctx, samples.get2D()), out);
+}
+
 // pushWeighted(ctx, wi, directionPdf(ctx, wi), out) with one pow instead of two: the mixture density
 //   p = P_d cos(theta)/pi + (1 - P_d) (n+1)/(2 pi) c^n   and the BRDF   f = rho_d/pi + rho_s (n+2)/(2 pi) c^n
 // share c^n, c = cos(alpha) = r . wi (the same value phongCosAlpha gives, so the same bits as the two calls).
-void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
-    const Vec3 wi = sampleDirection(ctx, samples.get2D());
+void PhongLobeEstimator::weigh(const ShadingContext& ctx, const Vec3& wi, DirectionList& out) {
     if (wi.z <= 0 || ctx.wo.z <= 0) return;
     const PhongMaterial& m = *ctx.material;
     const double pd = diffuseProbability(m);

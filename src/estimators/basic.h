@@ -47,15 +47,30 @@ public:
     std::string_view name() const override { return "phong"; }
     void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
+    bool drawsAhead() const override { return true; }
+    void drawAhead(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
+                   DirectionDraw* out) const override;
+    void sampleDrawn(const ShadingContext& ctx, const DirectionDraw& draw, DirectionList& out) const override {
+        weigh(ctx, placeDirection(ctx.wo, draw), out);
+    }
 
     /// Probability of choosing the diffuse lobe for a material.
     static double diffuseProbability(const PhongMaterial& m);
     /// One direction of the mixture from one 2D value, before the horizon test (a lobe direction may
     /// point below it): the lobe choice is folded into u.u (diffuse when u.u < P_d, then rescaled to
     /// [0,1)), so the 2D value's stratification carries over to both lobes.
-    static Vec3 sampleDirection(const ShadingContext& ctx, Point2 u);
+    static Vec3 sampleDirection(const ShadingContext& ctx, Point2 u) { return placeDirection(ctx.wo, drawDirection(*ctx.material, u)); }
+    /// sampleDirection's steps that need only the material: the lobe's choice and the direction in the
+    /// chosen lobe's own frame (the shading frame for the diffuse lobe).
+    static DirectionDraw drawDirection(const PhongMaterial& m, Point2 u);
+    /// A drawn direction in the shading frame: a lobe direction turned into the frame around wo's mirror.
+    static Vec3 placeDirection(const Vec3& wo, const DirectionDraw& d);
     /// The mixture's density over the whole sphere, matching sampleDirection.
     static double directionPdf(const ShadingContext& ctx, const Vec3& wi);
+
+private:
+    /// sample()'s direction wi (from sampleDirection) with its weight and density, appended to `out`.
+    static void weigh(const ShadingContext& ctx, const Vec3& wi, DirectionList& out);
 };
 
 }  // namespace symphong

@@ -10,6 +10,7 @@
 #include "sampling/sampler.h"
 #include "util/cache_line.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -37,6 +38,14 @@ struct DirectionSample {
     Vec3 wi;        ///< incoming-light direction, local frame
     Color weight;   ///< f(wo,wi) cos(theta_i) / (K p(wi)) for the K directions of one call: L_r ~= sum weight * L_in
     double misPdf;  ///< K p(wi): the density of the call's direction set, as multiple importance sampling needs it
+};
+
+/// A direction drawn ahead of its shading point (Estimator::drawAhead): the part of sample()'s single direction
+/// that depends only on the material and the call's first 2D value, computed before the outgoing direction is
+/// known. `local` is in the shading frame, or, where `aroundMirror`, in a frame around wo's mirror direction.
+struct DirectionDraw {
+    Vec3 local;
+    bool aroundMirror = false;
 };
 
 /// The directions of a call: a buffer alone on its cache lines, since the path tracer's threads each
@@ -71,6 +80,17 @@ public:
     /// For estimators whose set is spread over camera samples: the number of samples that make up one
     /// whole set at this shading point (its entries); 1 for the others.
     virtual std::uint32_t spreadSetSize(const ShadingContext&) const { return 1; }
+
+    /// Whether drawAhead and sampleDrawn are this estimator's: its single direction drawn from the material and
+    /// the first 2D value that sample() reads, before the shading point's outgoing direction is known (the
+    /// wavefront tracer draws a depth's directions together, render/wavefront.cpp).
+    virtual bool drawsAhead() const { return false; }
+    /// Draws ahead for the n points with materials[i] (skipping a null one) from the 2D values (us[i], vs[i]).
+    virtual void drawAhead(const PhongMaterial* const*, const double*, const double*, std::size_t, DirectionDraw*) const {}
+    /// sample() for a point (ctx.branch false, or an estimator that returns one direction either way) whose
+    /// direction was drawn ahead from the value sample() would read first: the same directions, the same bits;
+    /// it reads nothing from a stream.
+    virtual void sampleDrawn(const ShadingContext&, const DirectionDraw&, DirectionList&) const {}
 
     /// The sampler this estimator is defined with, overriding the one asked for (`stratified` is cosine
     /// sampling under the stratified sampler); empty for the others.

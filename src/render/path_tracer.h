@@ -179,19 +179,21 @@ private:
     };
     Color radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
                    PathContext& pc) const;
+    /// The sample dimension of the estimator's first value at a vertex of this depth (the first hit's own stream).
+    std::uint64_t estimatorDimension(int depth) const;
     /// The sampler's values that the batch's live paths at a surface read at `depth` (the light sample, the
     /// estimator's pair, the roulette), computed for all of them at once in the lanes of sobol_lanes.h and
     /// read through their streams (SampleStream::readAhead): the values advance() would compute; and from the
-    /// light pairs, the emitters' samples at those paths' points (WavefrontBatch::emitterSamples).
+    /// light pairs, the emitters' samples at those paths' points (WavefrontBatch::emitterSamples), and from the
+    /// estimator's pairs its directions where it draws ahead (WavefrontBatch::draws).
     void fillAhead(WavefrontBatch& batch, std::size_t count, std::uint32_t spp, int depth) const;
     /// The vertex that w's ray reached: its terms in `terms`; true with w set to the continuing ray (depth + 1),
     /// false where the path ends (terms.own then the path's last value: the vertex's own terms, or what the ray
     /// met leaving the scene). `lit`: its light sample waits for its shadow ray (`shadow`, `light`), which the
     /// caller traces with the depth's others and whose term it adds to terms.own where the ray is clear.
-    /// `emitterAhead`: the vertex's emitter sample drawn ahead (fillAhead), `sampledAhead` its answer; nullptr:
-    /// drawn here.
-    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc, const EmitterSample* emitterAhead, bool sampledAhead, ShadowRay& shadow,
-                 LightSample& light, bool& lit) const;
+    /// `ahead`: what fillAhead drew for the vertex (its emitter sample, its estimator's direction).
+    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc, const VertexAhead& ahead, ShadowRay& shadow, LightSample& light,
+                 bool& lit) const;
     /// cameraRadiances of the same camera rays with their paths taken depth by depth: every path's vertex at
     /// depth d before any path's at d + 1.
     void cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,

@@ -19,10 +19,30 @@
 
 namespace symphong {
 
+namespace {
+
+/// A vertex's directions: from its draw where fillAhead drew it ahead, else sampled from its stream at `dim`.
+void sampleVertex(const Estimator& estimator, const ShadingContext& sc, const DirectionDraw* drawn, SampleStream& samples,
+                  std::uint64_t dim, DirectionList& dirs) {
+    if (drawn) {
+        estimator.sampleDrawn(sc, *drawn, dirs);
+    } else {
+        samples.setDimension(dim);
+        estimator.sample(sc, samples, dirs);
+    }
+}
+
+}  // namespace
+
+std::uint64_t PathTracer::estimatorDimension(int depth) const {
+    return depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream)
+                      : SampleDimensions::vertex(depth, 0) + SampleDimensions::kEstimator;
+}
+
 // shade() and continuePath() for one continuation a vertex (tracesAsWavefront): their code in their order,
 // with the continuation handed back in `w` instead of traced.
-bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, const EmitterSample* emitterAhead, bool sampledAhead,
-                         ShadowRay& shadow, LightSample& light, bool& lit) const {
+bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, const VertexAhead& ahead, ShadowRay& shadow, LightSample& light,
+                         bool& lit) const {
     const int depth = w.depth;
     if (!w.found) {
         Color emitted;
@@ -64,8 +84,8 @@ bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, const
     if (lightSampling_) {
         // directLight up to its shadow ray, which the depth's loop traces with the others (its term is
         // added to `own` then: shadow's L += value(1), after the emission, in its order).
-        if (emitterAhead) {
-            lit = lightSampleOf(sampledAhead, *emitterAhead, p, ng, frame, sc, shadowed, shadow, light);
+        if (ahead.emitter) {
+            lit = lightSampleOf(ahead.emitterSampled, *ahead.emitter, p, ng, frame, sc, shadowed, shadow, light);
         } else {
             samples.setDimension(SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
             lit = lightSample(p, ng, frame, sc, samples.get2D(), shadowed, shadow, light);
@@ -74,9 +94,7 @@ bool PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, const
     }
     DirectionList& dirs = pc.scratch.directions[static_cast<std::size_t>(depth)];
     dirs.clear();
-    samples.setDimension(depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream)
-                                    : SampleDimensions::vertex(depth, 0) + SampleDimensions::kEstimator);
-    estimator_.sample(sc, samples, dirs);
+    sampleVertex(estimator_, sc, ahead.direction, samples, estimatorDimension(depth), dirs);
     if (dirs.empty()) return end();
     const DirectionSample& s = dirs[0];
     const Vec3 wi = frame.toWorld(s.wi);
@@ -134,6 +152,7 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
         }
     // Where the values are computed ahead, so are the emitter samples, for every path that reaches its light sample.
     const bool emittersAhead = ahead && lightSampling_;
+    const bool directionsAhead = ahead && estimator_.drawsAhead();
     for (std::size_t count = n, depth = 0; count > 0; ++depth) {
         if (ahead) fillAhead(b, count, spp, static_cast<int>(depth));
         if (b.terms.size() <= depth) b.terms.resize(depth + 1);
@@ -143,8 +162,9 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
             const std::size_t k = b.live[i];
             PathContext pc{streams[k], stats, scratch};
             bool sampled = false;
-            const EmitterSample* emitterAhead = emittersAhead ? &b.emitterSamples[k] : nullptr;
-            if (advance(b.paths[k], terms[k], pc, emitterAhead, b.emitterSampled[k], b.shadowRays[lit], b.lights[lit], sampled))
+            const VertexAhead drawn{emittersAhead ? &b.emitterSamples[k] : nullptr, b.emitterSampled[k],
+                                    directionsAhead && b.drawn[k] ? &b.draws[k] : nullptr};
+            if (advance(b.paths[k], terms[k], pc, drawn, b.shadowRays[lit], b.lights[lit], sampled))
                 b.live[kept++] = static_cast<std::uint16_t>(k);
             if (sampled) b.lit[lit++] = static_cast<std::uint16_t>(k);
         }
@@ -214,8 +234,21 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
             b.emitterSampled[k] = emitters_.sample(p, {b.us[i], b.vs[i]}, b.emitterSamples[k]);
         }
     }
-    pairs(1, depth == 0 ? SampleDimensions::firstHitEstimator(settings_.firstBounceStream)
-                        : SampleDimensions::vertex(depth, 0) + SampleDimensions::kEstimator);
+    pairs(1, estimatorDimension(depth));
+    // The estimator's directions from those pairs, where it draws ahead and the vertex's material is its
+    // triangle's (a textured one is known only at the vertex): like the emitter samples, a loop of chains that
+    // overlap (a division, a square root, pow or the sine's polynomial).
+    if (estimator_.drawsAhead()) {
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::uint32_t material = scene_.triangles[b.paths[b.at[i]].hit.prim].material;
+            b.atMaterials[i] = textured_[material] ? nullptr : &scene_.materials[material];
+        }
+        estimator_.drawAhead(b.atMaterials.data(), b.us.data(), b.vs.data(), m, b.atDraws.data());
+        for (std::size_t i = 0; i < m; ++i) {
+            b.drawn[b.at[i]] = b.atMaterials[i] != nullptr;
+            b.draws[b.at[i]] = b.atDraws[i];
+        }
+    }
     if (depth + 1 >= settings_.rrDepth) {
         const std::uint64_t dim = SampleDimensions::vertex(depth + 1, 0) + SampleDimensions::kRoulette;
         sobolSingleValues(b.atKeys.data(), b.atIndices.data(), spp, dim, m, b.us.data());

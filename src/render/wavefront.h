@@ -6,6 +6,7 @@
 #pragma once
 
 #include "accel/accel.h"
+#include "estimators/estimator.h"
 #include "lights/emitter.h"
 #include "math/vec3.h"
 #include "render/direct_light.h"
@@ -38,6 +39,14 @@ struct VertexTerms {
     double survive = 1.0;
 };
 
+/// What fillAhead drew for one vertex before advance() takes it (nullptr: drawn there, as the recursive tracer
+/// draws it): its emitter sample with SceneEmitters::sample's answer, and its estimator's direction.
+struct VertexAhead {
+    const EmitterSample* emitter = nullptr;
+    bool emitterSampled = false;
+    const DirectionDraw* direction = nullptr;
+};
+
 /// The wavefront's batch: up to kSize camera samples traced together, depth by depth.
 struct WavefrontBatch {
     /// Camera samples a batch takes (render/renderer.cpp gathers them): enough that the stages' loops and the
@@ -67,6 +76,12 @@ struct WavefrontBatch {
     /// computed ahead (PathTracer::fillAhead): SceneEmitters::sample's output and its answer.
     std::array<EmitterSample, kSize> emitterSamples;
     std::array<bool, kSize> emitterSampled;
+    /// The estimator's directions drawn ahead from the estimator's pairs (Estimator::drawAhead), for the paths at a
+    /// surface whose material is known before its vertex (not textured): their materials and draws in fillAhead's
+    /// order, then each path's own.
+    std::array<const PhongMaterial*, kSize> atMaterials;
+    std::array<DirectionDraw, kSize> atDraws, draws;
+    std::array<bool, kSize> drawn;
 };
 
 }  // namespace symphong
