@@ -124,8 +124,8 @@ double PathTracer::emissionWeight(const Hit& hit, const Vec3& d, int depth, doub
 // the side of ng (the geometric normal facing the ray). Where the map bends it so far that the viewer
 // (wo, towards the eye) or ng falls behind it, the unbent normal: the map cannot be honoured there, and
 // a black spot would be worse.
-Vec3 PathTracer::shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
-                               const Vec3& wo, bool& bent) const {
+Vec3 PathTracer::smoothShadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures,
+                                     const TexCoord& uv, const Vec3& wo, bool& bent) const {
     bent = false;
     Vec3 ns = geometricNormals_[hit.prim];
     if (tri.n[0] >= 0) {

@@ -205,9 +205,18 @@ private:
     /// A branching vertex's rays, traced together from `origin` and each continued as its own path.
     Color traceBundle(const Vec3& origin, RayBundle& bundle, int depth, PathContext& pc) const;
     /// The shading normal on ng's side (the vertex normals', bent by a normal or bump map where it can be:
-    /// `bent`).
-    Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
-                       const Vec3& wo, bool& bent) const;
+    /// `bent`). Inline where it is the triangle's own normal (no vertex normals, no map): a call returning its
+    /// Vec3 through memory cost the wavefront's vertex a wait on that memory (docs/performance.md).
+    [[gnu::always_inline]] Vec3 shadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures,
+                                              const TexCoord& uv, const Vec3& wo, bool& bent) const {
+        if (tri.n[0] >= 0 || textures.perturbsNormal()) return smoothShadingNormal(tri, hit, ng, textures, uv, wo, bent);
+        bent = false;
+        const Vec3& ns = geometricNormals_[hit.prim];
+        return ns * (dot(ns, ng) < 0 ? -1.0 : 1.0);
+    }
+    /// shadingNormal where the triangle has vertex normals or its material a normal or bump map.
+    Vec3 smoothShadingNormal(const Triangle& tri, const Hit& hit, const Vec3& ng, const MaterialTextures& textures, const TexCoord& uv,
+                             const Vec3& wo, bool& bent) const;
     double emissionWeight(const Hit& hit, const Vec3& d, int depth, double prevMisPdf) const;
     /// A sampled direction `s` at a vertex (shading frame `frame`, geometric normal `ng`) as it leaves the
     /// surface: its world direction `wi` and its weight (times bumpShadowing where `shadowed`); false, and
