@@ -2,7 +2,9 @@
 
 #include "math/frame.h"
 #include "sampling/warp.h"
+#include "sampling/warp_lanes.h"
 
+#include <array>
 #include <cmath>
 
 namespace symphong {
@@ -42,12 +44,34 @@ Vec3 PhongLobeEstimator::placeDirection(const Vec3& wo, const DirectionDraw& d) 
     return d.aroundMirror ? Frame::fromNormal(mirrorDirection(wo)).toWorld(d.local) : d.local;
 }
 
-// Each point's chain (a division, a square root, pow or the sine's polynomial) is independent of the others':
-// a loop of its own lets the processor overlap them (docs/performance.md "The estimator's directions ahead").
+// drawDirection for n points: the lobe directions one by one, the diffuse ones together in the warp's lanes
+// (sampling/warp_lanes.h: the same bits), a chunk at a time. The points' chains (a division, a square root, pow
+// or the sine's polynomial) are independent of each other: the lanes take eight at once, and a loop of them the
+// processor overlaps (docs/performance.md "The estimator's directions ahead").
 void PhongLobeEstimator::drawAhead(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
                                    DirectionDraw* out) const {
-    for (std::size_t i = 0; i < n; ++i)
-        if (materials[i]) out[i] = drawDirection(*materials[i], {us[i], vs[i]});
+    constexpr std::size_t kChunk = 64;
+    std::array<double, kChunk> diffuseU, diffuseV;
+    std::array<std::size_t, kChunk> diffuseAt;
+    std::array<Vec3, kChunk> diffuse;
+    for (std::size_t first = 0; first < n; first += kChunk) {
+        const std::size_t end = std::min(n, first + kChunk);
+        std::size_t m = 0;
+        for (std::size_t i = first; i < end; ++i) {
+            if (!materials[i]) continue;
+            const PhongMaterial& mat = *materials[i];
+            const double pd = diffuseProbability(mat);
+            if (us[i] < pd) {
+                diffuseU[m] = std::min(us[i] / pd, kOneBelow);
+                diffuseV[m] = vs[i];
+                diffuseAt[m++] = i;
+            } else {
+                out[i] = {samplePhongLobe({std::min((us[i] - pd) / (1.0 - pd), kOneBelow), vs[i]}, mat.exponent), true};
+            }
+        }
+        cosineHemisphereDirections(diffuseU.data(), diffuseV.data(), m, diffuse.data());
+        for (std::size_t j = 0; j < m; ++j) out[diffuseAt[j]] = {diffuse[j], false};
+    }
 }
 
 double PhongLobeEstimator::directionPdf(const ShadingContext& ctx, const Vec3& wi) {

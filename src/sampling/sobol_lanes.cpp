@@ -5,22 +5,9 @@
 #include "sampling/lowdiscrepancy.h"
 #include "sampling/rng.h"
 #include "sampling/sampler.h"
+#include "sampling/x86_lanes.h"
 
 #include <bit>
-
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define SYMPHONG_SOBOL_LANES 1
-// GCC 12 reads the intrinsics' deliberately undefined pass-through operand (_mm512_undefined_epi32) as
-// "maybe uninitialized" where they are inlined: a false warning inside the compiler's own header.
-#if !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-#include <immintrin.h>
-#if !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
-#endif
 
 namespace symphong {
 
@@ -42,7 +29,7 @@ void sobolSingleValuesScalar(const std::uint64_t* keys, const std::uint32_t* ind
 
 }  // namespace detail
 
-#ifdef SYMPHONG_SOBOL_LANES
+#ifdef SYMPHONG_X86_LANES
 
 namespace {
 
