@@ -5,12 +5,18 @@
 // environment map's, and the choice among emitters in proportion to their powers.
 #include "lights/emitters.h"
 #include "lights/kinds.h"
+#include "lights/triangle_lanes.h"
 #include "sampling/rng.h"
 #include "scene/light.h"
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
 
 using namespace symphong;
 
@@ -45,6 +51,20 @@ double triangleArea(const Scene& s, const Triangle& t, Vec3& normal) {
     const Vec3 c = cross(s.positions[t.v[1]] - s.positions[t.v[0]], s.positions[t.v[2]] - s.positions[t.v[0]]);
     normal = normalize(c);
     return 0.5 * length(c);
+}
+
+/// A point light of intensity 3 at (0, 1, 0) and a sun of 0.5 shining down, added to the scene; every
+/// triangle's area and unit normal, as SceneEmitters takes them.
+void addPointLightAndSun(Scene& scene, std::vector<double>& areas, std::vector<Vec3>& normals) {
+    scene.lights = {pointLight(Vec3(0, 1, 0), Color(3.0))};
+    Light sun;
+    sun.type = Light::Type::Directional, sun.direction = Vec3(0, -1, 0), sun.intensity = Color(0.5);
+    scene.lights.push_back(sun);
+    for (const Triangle& t : scene.triangles) {
+        Vec3 n;
+        areas.push_back(triangleArea(scene, t, n));
+        normals.push_back(n);
+    }
 }
 
 /// Solid angle of triangle (a, b, c) seen from p (Van Oosterom and Strackee 1983).
@@ -177,17 +197,9 @@ TEST(Emitters, SkyAndConstantBackgroundsAreSeenButNeverSampled) {
 
 TEST(Emitters, LightSamplingChoosesEmittersInProportionToTheirPowers) {
     Scene scene = triangleScene();
-    scene.lights = {pointLight(Vec3(0, 1, 0), Color(3.0))};
-    Light sun;
-    sun.type = Light::Type::Directional, sun.direction = Vec3(0, -1, 0), sun.intensity = Color(0.5);
-    scene.lights.push_back(sun);
     std::vector<double> areas;
     std::vector<Vec3> normals;
-    for (const Triangle& t : scene.triangles) {
-        Vec3 n;
-        areas.push_back(triangleArea(scene, t, n));
-        normals.push_back(n);
-    }
+    addPointLightAndSun(scene, areas, normals);
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     const double r = 0.5 * length(hi - lo);
@@ -222,4 +234,113 @@ TEST(Emitters, LightSamplingChoosesEmittersInProportionToTheirPowers) {
         EXPECT_NEAR(s.pdf, s.toInfinity ? pSun / (pPoint + pSun) : pPoint / (pPoint + pSun), 1e-12) << "a delta light's pdf is its pick";
     }
     EXPECT_NEAR(picks[0] / 1000.0, pPoint / (pPoint + pSun), 2e-3);
+}
+
+namespace {
+
+/// Every field of two light samples the same, bit for bit (where they were sampled).
+void expectSameSample(const EmitterSample& a, const EmitterSample& b, const std::string& where) {
+    const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+    const auto same = [&](const Vec3& x, const Vec3& y) {
+        return bits(x.x) == bits(y.x) && bits(x.y) == bits(y.y) && bits(x.z) == bits(y.z);
+    };
+    EXPECT_TRUE(same(a.wi, b.wi) && same(a.target, b.target) && same(a.radiance, b.radiance) && bits(a.pdf) == bits(b.pdf)) << where;
+    EXPECT_TRUE(a.toInfinity == b.toInfinity && a.delta == b.delta && a.radianceLater == b.radianceLater) << where;
+}
+
+}  // namespace
+
+// lights/triangle_lanes.h: many light samples at once, each towards its own triangle, in vector lanes where the
+// processor has them, against sampleTriangleLight one at a time: the same answers and the same samples bit for
+// bit, with points in front of and behind the triangles, a point at a corner that the sample lands on (distance
+// 0), and counts that leave a part of a lane group empty.
+TEST(TriangleLanes, SamplesEqualTheScalarSampleBitForBit) {
+    Rng rng(47, 9);
+    const Scene scene;  // untextured lights never read it
+    std::vector<TriangleLight> table(37);
+    for (TriangleLight& t : table) {
+        const auto corner = [&] { return Vec3(rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2); };
+        t.v0 = corner(), t.v1 = corner(), t.v2 = corner();
+        const Vec3 c = cross(t.v1 - t.v0, t.v2 - t.v0);
+        t.normal = normalize(c);
+        t.area = 0.5 * length(c);
+        t.pick = 0.1 + rng.uniform();
+        t.pickOverArea = t.pick / t.area;
+        t.emission = Color(rng.uniform(), rng.uniform() * 3, 0.5);
+    }
+    std::vector<std::uint32_t> rows;
+    std::vector<Vec3> points;
+    std::vector<double> us, vs;
+    for (int i = 0; i < 5000; ++i) {
+        rows.push_back(rng.bits() % table.size());
+        points.emplace_back(rng.uniform() * 6 - 3, rng.uniform() * 6 - 3, rng.uniform() * 6 - 3);
+        us.push_back(rng.uniform());
+        vs.push_back(rng.uniform());
+    }
+    rows.insert(rows.begin() + 3, 5);  // u = 0 lands on corner v0: the point there is at distance 0
+    points.insert(points.begin() + 3, table[5].v0);
+    us.insert(us.begin() + 3, 0.0);
+    vs.insert(vs.begin() + 3, 0.25);
+    const bool lanes = triangleLanesAvailable();
+    if (!lanes) std::printf("[ NOTE     ] no AVX-512 here: the dispatching call runs the scalar form\n");
+    std::size_t sampledCount = 0, refused = 0;
+    for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{4}, std::size_t{8}, std::size_t{13}, rows.size()}) {
+        std::vector<EmitterSample> viaCall(n), viaLanes(n);
+        std::unique_ptr<bool[]> okCall(new bool[n + 1]), okLanes(new bool[n + 1]);
+        sampleTriangleLights(table.data(), rows.data(), scene, points.data(), us.data(), vs.data(), n, viaCall.data(), okCall.get());
+        if (lanes)
+            detail::sampleTriangleLightsLanes(table.data(), rows.data(), scene, points.data(), us.data(), vs.data(), n, viaLanes.data(),
+                                              okLanes.get());
+        for (std::size_t i = 0; i < n; ++i) {
+            EmitterSample s;
+            const bool ok = sampleTriangleLight(table[rows[i]], scene, points[i], {us[i], vs[i]}, s);
+            ASSERT_EQ(okCall[i], ok) << "sample " << i << " of " << n;
+            if (lanes) {
+                ASSERT_EQ(okLanes[i], ok) << "lanes, sample " << i << " of " << n;
+            }
+            if (!ok) {
+                ++refused;
+                continue;
+            }
+            ++sampledCount;
+            expectSameSample(viaCall[i], s, "sample " + std::to_string(i) + " of " + std::to_string(n));
+            if (lanes) expectSameSample(viaLanes[i], s, "lanes, sample " + std::to_string(i) + " of " + std::to_string(n));
+        }
+    }
+    EXPECT_GT(sampledCount, rows.size() / 4) << "points in front of their triangles";
+    EXPECT_GT(refused, rows.size() / 4) << "points behind their triangles, and the one at a corner";
+}
+
+// SceneEmitters::sampleMany against sample() one point at a time, with two emissive triangles (the lanes'), a
+// point light and a directional light (one by one) in the table: the same answers and samples bit for bit.
+TEST(Emitters, SampleManyEqualsSampleOneByOne) {
+    Scene scene = triangleScene();
+    scene.triangles[1].material = 0;  // the floor emits too: two rows of triangles
+    std::vector<double> areas;
+    std::vector<Vec3> normals;
+    addPointLightAndSun(scene, areas, normals);
+    const SceneEmitters emitters(scene, areas, normals, true);
+    Rng rng(53, 2);
+    constexpr std::size_t kPoints = 3000;
+    std::vector<Vec3> points;
+    std::vector<double> us, vs;
+    for (std::size_t i = 0; i < kPoints; ++i) {
+        points.emplace_back(rng.uniform() * 4 - 2, rng.uniform() * 3 - 0.5, rng.uniform() * 4 - 2);
+        us.push_back(rng.uniform());
+        vs.push_back(rng.uniform());
+    }
+    std::vector<EmitterSample> many(kPoints);
+    std::unique_ptr<bool[]> sampled(new bool[kPoints]);
+    emitters.sampleMany(points.data(), us.data(), vs.data(), kPoints, many.data(), sampled.get());
+    std::size_t delta = 0, area = 0;
+    for (std::size_t i = 0; i < kPoints; ++i) {
+        EmitterSample s;
+        const bool ok = emitters.sample(points[i], {us[i], vs[i]}, s);
+        ASSERT_EQ(sampled[i], ok) << "point " << i;
+        if (!ok) continue;
+        expectSameSample(many[i], s, "point " + std::to_string(i));
+        (s.delta ? delta : area) += 1;
+    }
+    EXPECT_GT(delta, kPoints / 20) << "the lights sampled one by one";
+    EXPECT_GT(area, kPoints / 20) << "the triangles sampled in lanes";
 }

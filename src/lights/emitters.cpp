@@ -1,6 +1,9 @@
 #include "lights/emitters.h"
 
+#include "lights/triangle_lanes.h"
+
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 
 namespace symphong {
@@ -73,6 +76,42 @@ std::vector<const Emitter*> SceneEmitters::lights() const {
     std::vector<const Emitter*> out;
     for (std::size_t i = 0; i + 1 < others_.size(); ++i) out.push_back(others_[i].get());
     return out;
+}
+
+void SceneEmitters::sampleMany(const Vec3* ps, const double* us, const double* vs, std::size_t n, EmitterSample* out, bool* sampled) const {
+    // A chunk at a time: the emitters picked one by one, the untextured triangles' samples gathered for the lanes
+    // and put back in their places.
+    constexpr std::size_t kChunk = 64;
+    std::array<std::uint32_t, kChunk> rows;
+    std::array<Vec3, kChunk> points;
+    std::array<double, kChunk> lightU, lightV;
+    std::array<std::size_t, kChunk> at;
+    std::array<EmitterSample, kChunk> samples;
+    std::array<bool, kChunk> ok;
+    for (std::size_t first = 0; first < n; first += kChunk) {
+        const std::size_t end = std::min(n, first + kChunk);
+        std::size_t m = 0;
+        for (std::size_t i = first; i < end; ++i) {
+            double uRemapped = 0;
+            const std::size_t entry = table_.sample(us[i], uRemapped);
+            const std::int32_t row = entries_[entry];
+            if (row >= 0 && static_cast<std::size_t>(row) < kTriangleLaneRows && !triangles_[static_cast<std::size_t>(row)].textured) {
+                rows[m] = static_cast<std::uint32_t>(row);
+                points[m] = ps[i];
+                lightU[m] = uRemapped;
+                lightV[m] = vs[i];
+                at[m++] = i;
+            } else {
+                sampled[i] = sampleEntry(entry, ps[i], {uRemapped, vs[i]}, out[i]);
+            }
+        }
+        sampleTriangleLights(triangles_.data(), rows.data(), scene_, points.data(), lightU.data(), lightV.data(), m, samples.data(),
+                             ok.data());
+        for (std::size_t j = 0; j < m; ++j) {
+            out[at[j]] = samples[j];
+            sampled[at[j]] = ok[j];
+        }
+    }
 }
 
 }  // namespace symphong

@@ -39,14 +39,11 @@ public:
     bool sample(const Vec3& p, Point2 u, EmitterSample& s) const {
         double uRemapped = 0;
         const std::size_t entry = table_.sample(u.u, uRemapped);
-        const double pick = table_.pmf(entry);
-        const std::int32_t i = entries_[entry];
-        if (i >= 0) return sampleTriangleLight(triangles_[static_cast<std::size_t>(i)], scene_, p, {uRemapped, u.v}, s);
-        const Emitter& e = *others_[static_cast<std::size_t>(-1 - i)];
-        if (!e.sample(p, {uRemapped, u.v}, pick, s)) return false;
-        s.delta = e.isDelta();
-        return true;
+        return sampleEntry(entry, p, {uRemapped, u.v}, s);
     }
+    /// sampled[i] = sample(ps[i], {us[i], vs[i]}, out[i]), i < n: the same samples, the untextured triangles'
+    /// in the vector lanes of lights/triangle_lanes.h (the wavefront tracer's light samples of a depth).
+    void sampleMany(const Vec3* ps, const double* us, const double* vs, std::size_t n, EmitterSample* out, bool* sampled) const;
     /// The density light sampling gives direction d along which a path hit triangle `prim` after t (t |d|
     /// the distance); 0 for a triangle it does not sample.
     double trianglePdfOfHit(std::uint32_t prim, const Vec3& d, double t) const {
@@ -68,6 +65,15 @@ public:
     std::vector<const Emitter*> lights() const;
 
 private:
+    /// sample() once the table chose `entry`, u.u rescaled inside its share.
+    bool sampleEntry(std::size_t entry, const Vec3& p, Point2 u, EmitterSample& s) const {
+        const std::int32_t i = entries_[entry];
+        if (i >= 0) return sampleTriangleLight(triangles_[static_cast<std::size_t>(i)], scene_, p, u, s);
+        const Emitter& e = *others_[static_cast<std::size_t>(-1 - i)];
+        if (!e.sample(p, u, table_.pmf(entry), s)) return false;
+        s.delta = e.isDelta();
+        return true;
+    }
     const Scene& scene_;
     std::vector<TriangleLight> triangles_;          ///< the emissive triangles
     std::vector<std::int32_t> triangleRow_;         ///< triangle -> its row in triangles_, or -1

@@ -162,8 +162,9 @@ void PathTracer::cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::
             const std::size_t k = b.live[i];
             PathContext pc{streams[k], stats, scratch};
             bool sampled = false;
-            const VertexAhead drawn{emittersAhead ? &b.emitterSamples[k] : nullptr, b.emitterSampled[k],
-                                    directionsAhead && b.drawn[k] ? &b.draws[k] : nullptr};
+            const std::size_t slot = b.slot[k];
+            const VertexAhead drawn{emittersAhead ? &b.emitterSamples[slot] : nullptr, b.emitterSampled[slot],
+                                    directionsAhead && b.materials[slot] ? &b.draws[slot] : nullptr};
             if (advance(b.paths[k], terms[k], pc, drawn, b.shadowRays[lit], b.lights[lit], sampled))
                 b.live[kept++] = static_cast<std::uint16_t>(k);
             if (sampled) b.lit[lit++] = static_cast<std::uint16_t>(k);
@@ -207,6 +208,7 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
             const std::size_t k = b.live[i];
             if (!b.paths[k].found) continue;
             b.at[m] = static_cast<std::uint16_t>(k);
+            b.slot[k] = static_cast<std::uint16_t>(m);
             b.atKeys[m] = b.keys[k];
             b.atIndices[m] = b.indices[k];
             ++m;
@@ -223,16 +225,15 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     // advance()'s reads at this depth, at its dimensions: the light sample, the estimator's pair, the roulette.
     if (lightSampling_) {
         pairs(0, SampleDimensions::vertex(depth, 0) + SampleDimensions::kLight);
-        // The emitters' samples from those pairs, at the points advance() will shade (its p: the same bits), in
-        // a loop of their own: each sample's chain of square roots and divisions waits on the one before, and
-        // samples of different paths side by side overlap those waits (docs/performance.md "The emitters'
-        // samples ahead"). A path that ends before its light sample (wo below its surface) drew one for nothing.
+        // The emitters' samples from those pairs, at the points advance() will shade (its p: the same bits),
+        // together: the untextured triangles' in vector lanes, and each sample's chain of square roots and
+        // divisions overlapping the others' (docs/performance.md "The emitters' samples ahead"). A path that
+        // ends before its light sample (wo below its surface) drew one for nothing.
         for (std::size_t i = 0; i < m; ++i) {
-            const std::size_t k = b.at[i];
-            const WavePath& w = b.paths[k];
-            const Vec3 p = w.o + w.d * w.hit.t;
-            b.emitterSampled[k] = emitters_.sample(p, {b.us[i], b.vs[i]}, b.emitterSamples[k]);
+            const WavePath& w = b.paths[b.at[i]];
+            b.points[i] = w.o + w.d * w.hit.t;
         }
+        emitters_.sampleMany(b.points.data(), b.us.data(), b.vs.data(), m, b.emitterSamples.data(), b.emitterSampled.data());
     }
     pairs(1, estimatorDimension(depth));
     // The estimator's directions from those pairs, where it draws ahead and the vertex's material is its
@@ -241,13 +242,9 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     if (estimator_.drawsAhead()) {
         for (std::size_t i = 0; i < m; ++i) {
             const std::uint32_t material = scene_.triangles[b.paths[b.at[i]].hit.prim].material;
-            b.atMaterials[i] = textured_[material] ? nullptr : &scene_.materials[material];
+            b.materials[i] = textured_[material] ? nullptr : &scene_.materials[material];
         }
-        estimator_.drawAhead(b.atMaterials.data(), b.us.data(), b.vs.data(), m, b.atDraws.data());
-        for (std::size_t i = 0; i < m; ++i) {
-            b.drawn[b.at[i]] = b.atMaterials[i] != nullptr;
-            b.draws[b.at[i]] = b.atDraws[i];
-        }
+        estimator_.drawAhead(b.materials.data(), b.us.data(), b.vs.data(), m, b.draws.data());
     }
     if (depth + 1 >= settings_.rrDepth) {
         const std::uint64_t dim = SampleDimensions::vertex(depth + 1, 0) + SampleDimensions::kRoulette;

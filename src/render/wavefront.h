@@ -68,20 +68,20 @@ struct WavefrontBatch {
     std::array<std::uint64_t, kSize> keys;       ///< path k's pixel key
     std::array<std::uint32_t, kSize> indices;    ///< path k's sample index
     std::array<std::uint16_t, kSize> at;         ///< the paths at a surface (fillAhead)
+    std::array<std::uint16_t, kSize> slot;       ///< path k's place among them: its index in `at` and in the arrays below
     std::array<std::uint64_t, kSize> atKeys;     ///< their keys
     std::array<std::uint32_t, kSize> atIndices;  ///< their sample indices
     std::array<AheadValues, kSize> ahead;
     std::array<double, kSize> us, vs;
-    /// The emitters' samples of the paths at a surface, drawn ahead of their vertices from the light pairs
-    /// computed ahead (PathTracer::fillAhead): SceneEmitters::sample's output and its answer.
+    /// The emitters' samples of the paths at a surface (in their slots), drawn ahead of their vertices from the
+    /// light pairs computed ahead (PathTracer::fillAhead): the points, SceneEmitters::sampleMany's output and answers.
+    std::array<Vec3, kSize> points;
     std::array<EmitterSample, kSize> emitterSamples;
     std::array<bool, kSize> emitterSampled;
     /// The estimator's directions drawn ahead from the estimator's pairs (Estimator::drawAhead), for the paths at a
-    /// surface whose material is known before its vertex (not textured): their materials and draws in fillAhead's
-    /// order, then each path's own.
-    std::array<const PhongMaterial*, kSize> atMaterials;
-    std::array<DirectionDraw, kSize> atDraws, draws;
-    std::array<bool, kSize> drawn;
+    /// surface whose material is known before its vertex (not textured; the others' material null), in their slots.
+    std::array<const PhongMaterial*, kSize> materials;
+    std::array<DirectionDraw, kSize> draws;
 };
 
 }  // namespace symphong

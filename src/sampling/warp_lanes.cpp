@@ -74,17 +74,9 @@ __attribute__((target("avx512f"))) void cosineLanes(const double* us, const doub
     }
 }
 
-bool cpuHasLanes() {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f");
-}
-
 }  // namespace
 
-bool warpLanesAvailable() {
-    static const bool available = cpuHasLanes();
-    return available;
-}
+bool warpLanesAvailable() { return avx512fAvailable(); }
 
 namespace detail {
 void cosineHemisphereDirectionsLanes(const double* us, const double* vs, std::size_t n, Vec3* out) { cosineLanes(us, vs, n, out); }

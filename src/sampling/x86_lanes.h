@@ -16,4 +16,15 @@
 #if !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
+
+namespace symphong {
+/// Whether this processor runs AVX-512 F (asked once).
+inline bool avx512fAvailable() {
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx512f") != 0;
+    }();
+    return available;
+}
+}  // namespace symphong
 #endif

@@ -5,8 +5,9 @@
 # Every comparison is byte for byte against the EXR of an uninterrupted one-pass render of the same
 # settings. Checks:
 #   passes        pass sizes 1, 5 and automatic, with every sampler and a spread-mode estimator
-#   kill          kill -9 at pseudo-random moments (a fixed sequence), --resume after each, until the
-#                 render ends by itself (at least 10 kills, at most 25)
+#   kill          kill -9 at pseudo-random moments (a fixed sequence, scaled to the time of the whole
+#                 render here), --resume after each, until the render ends by itself (at least 10 kills, at
+#                 most 25)
 #   kill-writing  kill -9 while a checkpoint is being written (as soon as its temporary file appears),
 #                 five times (at least one must land mid-write), --resume after each
 #   sigterm       SIGTERM (what Slurm sends before it kills) and SIGINT: exit 143 / 130 with a checkpoint
@@ -62,18 +63,25 @@ passes)
   ;;
 kill)
   reference ref.exr --spp 512
+  # The kills' delays scale with this machine's time for the whole checkpointed render (a faster renderer, or
+  # a less busy machine, must still be killed 10 times): up to a tenth of it, at least 20 ms.
+  start=$(date +%s%N)
+  "$bin" "${base[@]}" --spp 512 --pass-spp 2 --checkpoint whole.ckpt --checkpoint-interval 0.01 -o whole.exr >/dev/null
+  span=$(( ($(date +%s%N) - start) / 10000000 ))
+  [ "$span" -ge 30 ] || span=30
   RANDOM=20261202
   for attempt in $(seq 1 25); do
     "$bin" "${base[@]}" --spp 512 --pass-spp 2 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err &
     pid=$!
-    sleep "0.$(printf '%03d' $((20 + RANDOM % 300)))"
+    delay=$((20 + RANDOM % span))
+    sleep "$((delay / 1000)).$(printf '%03d' $((delay % 1000)))"
     kill -9 "$pid" 2>/dev/null || true
     rc=0
     wait "$pid" 2>/dev/null || rc=$?
     [ "$rc" -eq 0 ] && break
     [ "$rc" -eq 137 ] || fail "attempt $attempt: exit code $rc: $(cat err)"
   done
-  [ "$attempt" -ge 10 ] || fail "the render finished after $attempt attempts: too few kills to test anything"
+  [ "$attempt" -ge 10 ] || fail "the render finished after $attempt attempts (delays up to $((20 + span)) ms): too few kills to test anything"
   "$bin" "${base[@]}" --spp 512 --pass-spp 2 --checkpoint c.ckpt --checkpoint-interval 0.01 --resume -o out.exr >/dev/null 2>err ||
     fail "the last resume failed: $(cat err)"
   cmp ref.exr out.exr || fail "killed $attempt times and resumed: the EXR differs from the uninterrupted one"
