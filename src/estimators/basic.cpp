@@ -70,7 +70,11 @@ void PhongLobeEstimator::drawAhead(const PhongMaterial* const* materials, const 
             }
         }
         cosineHemisphereDirections(diffuseU.data(), diffuseV.data(), m, diffuse.data());
-        for (std::size_t j = 0; j < m; ++j) out[diffuseAt[j]] = {diffuse[j], false};
+        for (std::size_t j = 0; j < m; ++j) {  // field by field: a whole DirectionDraw went through the stack, a wait on memory
+            DirectionDraw& d = out[diffuseAt[j]];
+            d.local = diffuse[j];
+            d.aroundMirror = false;
+        }
     }
 }
 

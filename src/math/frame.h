@@ -18,8 +18,10 @@ struct Frame {
         return {Vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3(b, sign + n.y * n.y * a, -n.y), n};
     }
 
-    Vec3 toLocal(const Vec3& v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
-    Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
+    // Always inlined: in the wavefront's long vertex function GCC had made toLocal a call, whose Vec3 came back
+    // through memory and cost the vertex a wait on it (docs/performance.md "The estimator's directions ahead").
+    [[gnu::always_inline]] Vec3 toLocal(const Vec3& v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
+    [[gnu::always_inline]] Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
 }  // namespace symphong
