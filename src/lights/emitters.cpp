@@ -86,7 +86,10 @@ void SceneEmitters::sampleMany(const Vec3* ps, const double* us, const double* v
     std::array<Vec3, kChunk> points;
     std::array<double, kChunk> lightU, lightV;
     std::array<std::size_t, kChunk> at;
-    std::array<EmitterSample, kChunk> samples;
+    union Samples {  // left uninitialised (its constructor sets nothing): only the samples drawn are read from it
+        Samples() {}
+        EmitterSample at[kChunk];
+    } samples;
     std::array<bool, kChunk> ok;
     for (std::size_t first = 0; first < n; first += kChunk) {
         const std::size_t end = std::min(n, first + kChunk);
@@ -105,10 +108,9 @@ void SceneEmitters::sampleMany(const Vec3* ps, const double* us, const double* v
                 sampled[i] = sampleEntry(entry, ps[i], {uRemapped, vs[i]}, out[i]);
             }
         }
-        sampleTriangleLights(triangles_.data(), rows.data(), scene_, points.data(), lightU.data(), lightV.data(), m, samples.data(),
-                             ok.data());
+        sampleTriangleLights(triangles_.data(), rows.data(), scene_, points.data(), lightU.data(), lightV.data(), m, samples.at, ok.data());
         for (std::size_t j = 0; j < m; ++j) {
-            out[at[j]] = samples[j];
+            if (ok[j]) out[at[j]] = samples.at[j];
             sampled[at[j]] = ok[j];
         }
     }

@@ -240,11 +240,13 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     // triangle's (a textured one is known only at the vertex): like the emitter samples, a loop of chains that
     // overlap (a division, a square root, pow or the sine's polynomial).
     if (estimator_.drawsAhead()) {
+        std::size_t drawable = 0;
         for (std::size_t i = 0; i < m; ++i) {
             const std::uint32_t material = scene_.triangles[b.paths[b.at[i]].hit.prim].material;
             b.materials[i] = textured_[material] ? nullptr : &scene_.materials[material];
+            drawable += b.materials[i] != nullptr;
         }
-        estimator_.drawAhead(b.materials.data(), b.us.data(), b.vs.data(), m, b.draws.data());
+        if (drawable > 0) estimator_.drawAhead(b.materials.data(), b.us.data(), b.vs.data(), m, b.draws.data());
     }
     if (depth + 1 >= settings_.rrDepth) {
         const std::uint64_t dim = SampleDimensions::vertex(depth + 1, 0) + SampleDimensions::kRoulette;
