@@ -3,7 +3,8 @@
 // takes its vertex at d + 1, each vertex keeping its terms (VertexTerms) and handing on the next ray, instead of
 // shade() calling itself for the next vertex and adding on the way back; a depth's shadow rays, then its
 // continuing rays, go to Embree together (16-wide packets: Accel::occludedEach, intersectEach), and the sampler's
-// values of a depth's vertices are computed together in vector lanes (sobol_lanes.h). The same decisions at the
+// values of a depth's vertices are computed together in vector lanes (sobol_lanes.h), and from them the vertices'
+// light samples and estimator directions (fillAhead: lanes too, where they run). The same decisions at the
 // same sample dimensions as the recursive tracer, so the same paths, and each path's terms summed at its end from
 // the last vertex back, in shade()'s order: the same radiance bit for bit where Embree answers each query as the
 // single-ray one does (an Accel without packets); with packets, the same but for the rare grazing ray that a
