@@ -33,11 +33,22 @@ double PhongLobeEstimator::diffuseProbability(const PhongMaterial& m) {
     return d + s > 0 ? d / (d + s) : 1.0;
 }
 
+namespace {
+
+// The lobe choice is folded into u.u: [0, P_d) -> diffuse, [P_d, 1) -> specular, each rescaled to [0,1).
+/// The diffuse lobe's 2D value (u.u < P_d).
+Point2 diffuseValue(Point2 u, double pd) { return {std::min(u.u / pd, kOneBelow), u.v}; }
+/// The specular lobe's draw (u.u >= P_d): its direction around +Z, to be turned into the mirror's frame.
+DirectionDraw lobeDraw(Point2 u, double pd, double exponent) {
+    return {samplePhongLobe({std::min((u.u - pd) / (1.0 - pd), kOneBelow), u.v}, exponent), true};
+}
+
+}  // namespace
+
 DirectionDraw PhongLobeEstimator::drawDirection(const PhongMaterial& m, Point2 u) {
     const double pd = diffuseProbability(m);
-    // Lobe choice folded into u.u: [0, P_d) -> diffuse, [P_d, 1) -> specular, each rescaled to [0,1).
-    if (u.u < pd) return {sampleCosineHemisphere({std::min(u.u / pd, kOneBelow), u.v}), false};
-    return {samplePhongLobe({std::min((u.u - pd) / (1.0 - pd), kOneBelow), u.v}, m.exponent), true};
+    if (u.u < pd) return {sampleCosineHemisphere(diffuseValue(u, pd)), false};
+    return lobeDraw(u, pd, m.exponent);
 }
 
 Vec3 PhongLobeEstimator::placeDirection(const Vec3& wo, const DirectionDraw& d) {
@@ -61,12 +72,14 @@ void PhongLobeEstimator::drawAhead(const PhongMaterial* const* materials, const 
             if (!materials[i]) continue;
             const PhongMaterial& mat = *materials[i];
             const double pd = diffuseProbability(mat);
-            if (us[i] < pd) {
-                diffuseU[m] = std::min(us[i] / pd, kOneBelow);
-                diffuseV[m] = vs[i];
+            const Point2 u{us[i], vs[i]};
+            if (u.u < pd) {
+                const Point2 d = diffuseValue(u, pd);
+                diffuseU[m] = d.u;
+                diffuseV[m] = d.v;
                 diffuseAt[m++] = i;
             } else {
-                out[i] = {samplePhongLobe({std::min((us[i] - pd) / (1.0 - pd), kOneBelow), vs[i]}, mat.exponent), true};
+                out[i] = lobeDraw(u, pd, mat.exponent);
             }
         }
         cosineHemisphereDirections(diffuseU.data(), diffuseV.data(), m, diffuse.data());
