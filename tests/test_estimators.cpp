@@ -181,6 +181,42 @@ TEST(PaperEstimator, OneDirectionHasTheSameMeanAsTheWholeSet) {
     }
 }
 
+// Estimator::largestSet, by which the wavefront tracer sizes its batch (render/wavefront.cpp), against the sets
+// that calls return: no call at a first hit returns more; a set estimator in branch mode returns that many at a
+// glossy point seen from near its normal (every piece's direction above the surface), so the bound is not loose.
+// The other estimators, and every estimator off the first hit, return at most one direction.
+TEST(EstimatorSets, LargestSetIsTheMostDirectionsOneCallReturns) {
+    PhongMaterial m;
+    m.rhoD = Color(0.5);
+    m.rhoS = Color(0.4);
+    m.exponent = 200;
+    test::Streams streams(77);
+    DirectionList out;
+    for (const auto& name : estimatorNames())
+        for (int n : {1, 3})
+            for (int orbit : {2, 8}) {
+                EstimatorOptions options;
+                options.symmetricN = n;
+                options.symmetricOrbit = orbit;
+                const auto est = makeEstimator(name, options);
+                std::size_t most = 0, mostDeeper = 0;
+                for (int call = 0; call < 200; ++call)
+                    for (bool branch : {true, false}) {
+                        out.clear();
+                        SampleStream samples = streams.next();
+                        est->sample(ShadingContext{sphericalDirection(std::cos(0.05), 0.3 * call), &m, branch ? 0 : 1, branch}, samples,
+                                    out);
+                        (branch ? most : mostDeeper) = std::max(branch ? most : mostDeeper, out.size());
+                    }
+                EXPECT_LE(mostDeeper, 1u) << name;
+                if (est->returnsSets())
+                    EXPECT_EQ(most, est->largestSet()) << name << " N' " << n << " orbit " << orbit;
+                else
+                    EXPECT_EQ(est->largestSet(), 1u) << name;
+                EXPECT_LE(most, est->largestSet()) << name << " N' " << n << " orbit " << orbit;
+            }
+}
+
 // Every estimator's one-direction density (the misPdf it reports for MIS, the symmetric estimators'
 // mixture over their pieces included) against the directions it draws, by the chi-square helper
 // (tests/stats.h): the directions it returns follow misPdf restricted to the upper hemisphere, and the

@@ -63,6 +63,16 @@ std::vector<Case> cases() {
         {"cornell", "phong", [](RenderSettings& rs) { rs.spp = 32; }},
         {dir + "textured.json", "phong", [](RenderSettings& rs) { rs.spp = 16; }},
         {"cornell", "phong", [](RenderSettings& rs) { rs.spp = 1; }},
+        // A branching first hit: --split k (k calls on sub-samples), and sets (continuations 1..P of their own),
+        // with and without their values computed ahead; roulette from the first continuation on.
+        {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 2; }},
+        {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 3, rs.spp = 16; }},
+        {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 2, rs.spp = 32; }},  // k x spp in the lanes
+        {dir + "cornell-glossy-100.json", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 2, rs.trace.rrDepth = 1; }},
+        {dir + "textured.json", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 4, rs.spp = 8; }},
+        {"cornell", "symmetric", [](RenderSettings& rs) { rs.spp = 4; }},
+        {"cornell", "symmetric-mix", [](RenderSettings& rs) { rs.spp = 16, rs.trace.firstHitSplit = 2; }},
+        {"cornell", "paper", [](RenderSettings& rs) { rs.spp = 4, rs.trace.nextEvent = false; }},
     };
     if (!test::scenesDir().empty()) list.push_back({test::scenesDir() + "/bunny/stanford-bunny.obj", "phong"});
     return list;
@@ -120,7 +130,7 @@ TEST(Wavefront, WithPacketsTheSameImageButWhereAPacketRoundsOtherwise) {
     EXPECT_LE(allDiffering, allPixels / 200) << "over all cases";
 }
 
-TEST(Wavefront, OnlyWhereAVertexHasOneContinuation) {
+TEST(Wavefront, OnlyWhereABatchHoldsAFirstHitsContinuations) {
     const Scene scene = loadScene("cornell");
     const Accel accel(scene);
     const auto phong = makeEstimator("phong");
@@ -134,12 +144,23 @@ TEST(Wavefront, OnlyWhereAVertexHasOneContinuation) {
         << "automatic: the wavefront where the sampler's lanes run";
     TraceSettings split = on;
     split.firstHitSplit = 2;
-    EXPECT_FALSE(PathTracer(scene, accel, *phong, split).tracesAsWavefront());
+    EXPECT_TRUE(PathTracer(scene, accel, *phong, split).tracesAsWavefront()) << "a first hit's branches in slots of their own";
+    EXPECT_EQ(PathTracer(scene, accel, *phong, split).cameraBatch(), WavefrontBatch::kSize / 2);
     TraceSettings joint = on;
     joint.jointFirstBounce = true;
     EXPECT_FALSE(PathTracer(scene, accel, *phong, joint).tracesAsWavefront());
     EstimatorOptions branch;
     branch.symmetricMode = SymmetricMode::Branch;
     const auto sets = makeEstimator("symmetric", branch);
-    EXPECT_FALSE(PathTracer(scene, accel, *sets, on).tracesAsWavefront()) << "a set's directions branch";
+    EXPECT_TRUE(PathTracer(scene, accel, *sets, on).tracesAsWavefront()) << "a set of 24 directions";
+    EXPECT_EQ(PathTracer(scene, accel, *sets, on).cameraBatch(), WavefrontBatch::kSize / 24);
+    EXPECT_FALSE(PathTracer(scene, accel, *sets, TraceSettings{}).tracesAsWavefront()) << "automatic: no faster for sets of 24";
+    TraceSettings split16;
+    split16.firstHitSplit = 16;
+    EXPECT_EQ(PathTracer(scene, accel, *phong, split16).tracesAsWavefront(), sobolLanesAvailable()) << "automatic: --split 16";
+    branch.symmetricN = 11;  // 264 directions a set: more than a batch holds
+    EXPECT_FALSE(PathTracer(scene, accel, *makeEstimator("symmetric", branch), on).tracesAsWavefront());
+    TraceSettings wide = on;
+    wide.firstHitSplit = 257;
+    EXPECT_FALSE(PathTracer(scene, accel, *phong, wide).tracesAsWavefront());
 }

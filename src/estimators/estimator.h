@@ -76,6 +76,9 @@ public:
     /// Whether a call with ctx.branch returns a whole set of directions (the symmetric estimators), so
     /// that one call is one estimate; otherwise a call returns at most one direction.
     virtual bool returnsSets() const { return false; }
+    /// The most directions that one call with ctx.branch returns: a whole set where returnsSets(), else 1 (the
+    /// wavefront tracer sizes its batch by it, render/wavefront.cpp).
+    virtual std::uint32_t largestSet() const { return 1; }
 
     /// For estimators whose set is spread over camera samples: the number of samples that make up one
     /// whole set at this shading point (its entries); 1 for the others.

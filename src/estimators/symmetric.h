@@ -35,6 +35,9 @@ public:
     double misPdf(const ShadingContext&, const Vec3&) const override { return 0.0; }
     bool combinesWithLightSampling() const override { return false; }
     bool returnsSets() const override { return mode_ == SymmetricMode::Branch; }
+    std::uint32_t largestSet() const override {
+        return returnsSets() ? 16 * static_cast<std::uint32_t>(nPrime_ + 1) + 8 * static_cast<std::uint32_t>(nPrime_) : 1;
+    }
     std::uint32_t spreadSetSize(const ShadingContext& ctx) const override;
 
     /// The specular normalisation: Eq. (6)'s 2 pi (1 - (sqrt3/3)^(n+1)) / (n+1), or the conclusion's
@@ -79,6 +82,7 @@ public:
     void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
     bool returnsSets() const override { return mode_ == SymmetricMode::Branch; }
+    std::uint32_t largestSet() const override { return returnsSets() ? 24 * static_cast<std::uint32_t>(nPrime_) : 1; }
     std::uint32_t spreadSetSize(const ShadingContext& ctx) const override;
 
     /// d_D + d_S at wi for one point per piece (N' = 1).

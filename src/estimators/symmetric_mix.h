@@ -34,6 +34,7 @@ public:
     void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
     bool returnsSets() const override { return mode_ == SymmetricMode::Branch && orbit_ > 1; }
+    std::uint32_t largestSet() const override { return returnsSets() ? static_cast<std::uint32_t>(orbit_) : 1; }
     std::uint32_t spreadSetSize(const ShadingContext&) const override {
         return mode_ == SymmetricMode::Spread ? static_cast<std::uint32_t>(orbit_) : 1u;
     }

@@ -61,8 +61,10 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
       triangleSampling_(emitters_.samplesTriangles()),
       environmentSampling_(emitters_.samplesBackground()),
       lightSampling_(!emitters_.empty()),
-      wavefront_((settings.tracer == TracerChoice::Wavefront || (settings.tracer == TracerChoice::Automatic && sobolLanesAvailable())) &&
-                 !learning_ && settings.firstHitSplit <= 1 && !settings.jointFirstBounce && !estimator.returnsSets()) {
+      firstHitBranches_(static_cast<std::size_t>(std::max(1, settings.firstHitSplit)) * std::max<std::size_t>(1, estimator.largestSet())),
+      wavefront_((settings.tracer == TracerChoice::Wavefront || (settings.tracer == TracerChoice::Automatic && sobolLanesAvailable() &&
+                                                                 firstHitBranches_ <= kAutomaticWavefrontBranches)) &&
+                 !learning_ && !settings.jointFirstBounce && firstHitBranches_ <= WavefrontBatch::kSize) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});
@@ -346,7 +348,8 @@ Color PathTracer::traceBundle(const Vec3& origin, RayBundle& bundle, int depth, 
 // The first hit's directions: from the first-hit block of the sampler (another block for another
 // --first-bounce-stream), through a JointPairView for --joint-first-bounce, and k calls on the camera
 // sample's k sub-samples for --split k (each direction's weight / k, its set density x k).
-void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const {
+void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs,
+                                    const DirectionDraw* drawn) const {
     const std::uint64_t dim = SampleDimensions::firstHitEstimator(settings_.firstBounceStream);
     samples.setDimension(dim);
     if (settings_.jointFirstBounce && settings_.firstHitSplit <= 1) {
@@ -356,15 +359,22 @@ void PathTracer::firstHitDirections(const ShadingContext& sc, SampleStream& samp
         return;
     }
     if (settings_.firstHitSplit <= 1) {
-        estimator_.sample(sc, samples, dirs);
+        if (drawn)
+            estimator_.sampleDrawn(sc, *drawn, dirs);
+        else
+            estimator_.sample(sc, samples, dirs);
         return;
     }
     // The partner pair is matched to the camera samples, not to their sub-samples: no joint pair when split.
     const std::uint32_t k = static_cast<std::uint32_t>(settings_.firstHitSplit);
     for (std::uint32_t j = 0; j < k; ++j) {
-        SampleStream sub = samples.split(j, k);
         const std::size_t first = dirs.size();
-        estimator_.sample(sc, sub, dirs);
+        if (drawn) {
+            estimator_.sampleDrawn(sc, drawn[j], dirs);
+        } else {
+            SampleStream sub = samples.split(j, k);
+            estimator_.sample(sc, sub, dirs);
+        }
         for (std::size_t i = first; i < dirs.size(); ++i) {
             dirs[i].weight /= static_cast<double>(k);
             dirs[i].misPdf *= static_cast<double>(k);

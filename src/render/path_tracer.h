@@ -140,7 +140,7 @@ public:
     /// The most camera rays cameraRadiances takes: one Embree packet (the recursive tracer), or a wavefront's
     /// batch (tracesAsWavefront(), its camera rays traced as packets of kCameraPacket).
     static constexpr std::size_t kCameraPacket = 16;
-    std::size_t cameraBatch() const { return wavefront_ ? WavefrontBatch::kSize : kCameraPacket; }
+    std::size_t cameraBatch() const { return wavefront_ ? WavefrontBatch::kSize / firstHitBranches_ : kCameraPacket; }
     /// cameraRadiance of n <= cameraBatch() camera rays o + t dirs[k] from one origin (a pinhole camera's:
     /// neighbouring samples of a tile, render/renderer.cpp CameraPackets), out[k] from streams[k]: their
     /// first hits found as one coherent packet (Accel::intersectBundle), then each path traced on its own,
@@ -152,10 +152,18 @@ public:
     void cameraRadiances(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
                          PathScratch& scratch) const;
 
-    /// Whether cameraRadiances takes its paths depth by depth (TraceSettings::tracer: named, or automatic where the sampler's lanes run), and one
-    /// continuation a vertex (no --splitting ears, no --split, no joint first-bounce pattern, an estimator of one
-    /// direction a call).
+    /// Whether cameraRadiances takes its paths depth by depth (TraceSettings::tracer: named, or automatic where the
+    /// sampler's lanes run and a first hit has at most kAutomaticWavefrontBranches continuations): without
+    /// --splitting ears or a joint first-bounce pattern, and with at most WavefrontBatch::kSize continuations at a
+    /// first hit (firstHitBranches()).
     bool tracesAsWavefront() const { return wavefront_; }
+    /// The most continuations a first hit has: --split k's k calls of the estimator, each a whole set of its
+    /// (Estimator::largestSet) where it returns sets.
+    std::size_t firstHitBranches() const { return firstHitBranches_; }
+    /// The most first-hit continuations with which the automatic choice takes the wavefront: above it (`symmetric`'s
+    /// sets of 24, `paper`'s of 40) a batch holds at most ten camera samples and the wavefront was no faster than
+    /// the recursive tracer (docs/performance.md "A branching first hit in the wavefront").
+    static constexpr std::size_t kAutomaticWavefrontBranches = 16;
 
     const Scene& scene() const { return scene_; }
     /// --splitting ears: whether continuations are reported from now on: the deeper vertices' (a tracer kept
@@ -180,20 +188,39 @@ private:
     Color radiance(const Vec3& o, const Vec3& d, int depth, std::uint64_t path, double prevMisPdf, const Color& throughput,
                    PathContext& pc) const;
     /// The sample dimension of the estimator's first value at a vertex of this depth (the first hit's own stream).
-    std::uint64_t estimatorDimension(int depth) const;
+    std::uint64_t estimatorDimension(int depth, std::uint64_t path) const;
     /// The sampler's values that the batch's live paths at a surface read at `depth` (the light sample, the
     /// estimator's pair, the roulette), computed for all of them at once in the lanes of sobol_lanes.h and
     /// read through their streams (SampleStream::readAhead): the values advance() would compute; and from the
     /// light pairs, the emitters' samples at those paths' points (WavefrontBatch::emitterSamples), and from the
     /// estimator's pairs its directions where it draws ahead (WavefrontBatch::draws).
     void fillAhead(WavefrontBatch& batch, std::size_t count, std::uint32_t spp, int depth) const;
-    /// The vertex that w's ray reached: its terms in `terms`; true with w set to the continuing ray (depth + 1),
-    /// false where the path ends (terms.own then the path's last value: the vertex's own terms, or what the ray
+    /// The vertex that w's ray reached: its terms in `terms`; Continues with w set to the continuing ray (depth + 1),
+    /// Ends where the path ends (terms.own then the path's last value: the vertex's own terms, or what the ray
     /// met leaving the scene). `lit`: its light sample waits for its shadow ray (`shadow`, `light`), which the
     /// caller traces with the depth's others and whose term it adds to terms.own where the ray is clear.
     /// `ahead`: what fillAhead drew for the vertex (its emitter sample, its estimator's direction).
-    bool advance(WavePath& w, VertexTerms& terms, PathContext& pc, const VertexAhead& ahead, ShadowRay& shadow, LightSample& light,
-                 bool& lit) const;
+    /// A first hit whose directions branch (a set, or --split k): Branches, w left at its first hit, its own terms
+    /// in terms.own and its continuations in `spawned`, `branches` of them (spawnBranches).
+    VertexStep advance(WavePath& w, VertexTerms& terms, PathContext& pc, const VertexAhead& ahead, ShadowRay& shadow, LightSample& light,
+                       bool& lit, std::size_t& branches, FirstHitBranch* spawned) const;
+    /// continuePath's continuations of a branching first hit (dirs.size() > 1), each past its roulette, in `out`
+    /// (their number returned) instead of traced.
+    std::size_t spawnBranches(const DirectionList& dirs, const Frame& frame, const Vec3& ng, const Vec3& p, bool shadowed,
+                              const Color& throughput, SampleStream& samples, TraceStats& stats, FirstHitBranch* out) const;
+    /// advance()'s light sample (directLight up to its shadow ray): from its emitter sample drawn ahead, or its
+    /// stream at its path's dimensions; true where its shadow ray is to be traced.
+    bool vertexLightSample(std::uint64_t path, const VertexAhead& ahead, const Vec3& p, const Vec3& ng, const Frame& frame,
+                           const ShadingContext& sc, bool shadowed, SampleStream& samples, ShadowRay& shadow, LightSample& light) const;
+    /// advance()'s directions: the first hit's (firstHitDirections), or drawn ahead, or from its stream at its
+    /// path's dimensions.
+    void vertexDirections(const ShadingContext& sc, std::uint64_t path, const DirectionDraw* drawn, SampleStream& samples,
+                          DirectionList& dirs) const;
+    /// A depth of the batch's first `count` live paths (`cameras`: its camera samples, streams[k] theirs): each
+    /// one's vertex (advance), their shadow rays together, a branching first hit's continuations in their slots;
+    /// the number of paths that go on, first in b.live.
+    std::size_t takeVertices(WavefrontBatch& b, std::size_t count, std::size_t cameras, int depth, SampleStream* streams, bool ahead,
+                             TraceStats& stats, PathScratch& scratch) const;
     /// cameraRadiances of the same camera rays with their paths taken depth by depth: every path's vertex at
     /// depth d before any path's at d + 1.
     void cameraRadiancesWavefront(const Vec3& o, const Vec3* dirs, std::size_t n, SampleStream* streams, Color* out, TraceStats& stats,
@@ -273,8 +300,10 @@ private:
     /// weight (0 below the surface), MIS density times `mis`, throughput divided by `divisor`.
     Color traceDirection(const DirectionSample& s, const Frame& frame, const Vec3& ng, const Vec3& origin, bool shadowed, double mis,
                          double divisor, int depth, std::uint64_t path, const Color& throughput, PathContext& pc) const;
-    /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting).
-    void firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs) const;
+    /// The estimator's directions at the first hit (first-bounce stream, joint pattern, splitting). `drawn`: where
+    /// the wavefront drew them ahead (Estimator::drawAhead; no joint pattern), one draw, or --split k's k.
+    void firstHitDirections(const ShadingContext& sc, SampleStream& samples, DirectionList& dirs,
+                            const DirectionDraw* drawn = nullptr) const;
     /// Next-event estimation: one emitter chosen in proportion to its power, one direction towards it
     /// (the same for every kind of emitter), its shadow ray, and the power heuristic against the
     /// estimator's density (none for a delta emitter, which no path can hit).
@@ -312,7 +341,8 @@ private:
     bool triangleSampling_;     ///< NEE + MIS of emissive triangles: asked for, possible with this estimator, and some emit
     bool environmentSampling_;  ///< NEE + MIS of the environment map, on the same terms as the triangles
     bool lightSampling_;        ///< NEE at all: triangles or environment as above, or delta lights (always sampled)
-    bool wavefront_;            ///< tracesAsWavefront()
+    std::size_t firstHitBranches_;  ///< firstHitBranches()
+    bool wavefront_;                ///< tracesAsWavefront()
     double epsilon_ = 1e-4;     ///< ray offset, relative to the scene's size
 };
 

@@ -25,6 +25,7 @@ struct WavePath {
     Hit hit;
     bool found = false;
     int depth = 0;
+    std::uint64_t path = 0;  ///< its dimensions' path (SampleDimensions::vertex): 0, or branch j + 1 of a branching first hit
     double prevMisPdf = 0;
     Color throughput{1.0};  ///< shade()'s throughput: the product of the weights / survival probabilities so far
 };
@@ -47,10 +48,27 @@ struct VertexAhead {
     const DirectionDraw* direction = nullptr;
 };
 
+/// What became of a path at its vertex (PathTracer::advance): it ends there, it goes on (one continuation), or
+/// its first hit branches (a set, or --split k: its continuations in slots of their own, WavefrontBatch::spawned).
+enum class VertexStep { Ends, Continues, Branches };
+
+/// A continuation of a branching first hit (a set estimator's directions, or --split k's): its ray, its path's
+/// dimensions, its throughput past the roulette, and how its radiance enters the first hit's (weight / survive).
+struct FirstHitBranch {
+    Vec3 o, d;
+    double misPdf = 0;
+    Color throughput{0.0};
+    Color weight{0.0};
+    double survive = 1.0;
+    std::uint64_t path = 0;
+};
+
 /// The wavefront's batch: up to kSize camera samples traced together, depth by depth.
 struct WavefrontBatch {
     /// Camera samples a batch takes (render/renderer.cpp gathers them): enough that the stages' loops and the
     /// sampler's lanes run full at the deeper depths, where few of the paths are left.
+    /// A batch's paths: its camera samples' own, then at a branching first hit (PathTracer::firstHitBranches() > 1:
+    /// then the batch takes kSize / that many camera samples) a slot for each further continuation.
     static constexpr std::size_t kSize = 256;
     std::array<WavePath, kSize> paths;
     std::vector<std::array<VertexTerms, kSize>> terms;  ///< terms[d][k]: path k's vertex at depth d (grown as depths are reached)
@@ -82,6 +100,16 @@ struct WavefrontBatch {
     /// surface whose material is known before its vertex (not textured; the others' material null), in their slots.
     std::array<const PhongMaterial*, kSize> materials;
     std::array<DirectionDraw, kSize> draws;
+    /// A branching first hit: camera sample c's vertex branched (branched[c]); its first continuation goes on in
+    /// its own slot c, the others in slots extraBegin[c]..extraEnd[c] - 1 (past the camera samples), each with a
+    /// copy of c's stream (branchStreams[slot]); spawned: one vertex's continuations (PathTracer::spawnBranches).
+    std::array<bool, kSize> branched;
+    std::array<std::uint16_t, kSize> extraBegin, extraEnd;
+    std::array<SampleStream, kSize> branchStreams;
+    std::array<FirstHitBranch, kSize> spawned;
+    std::array<std::uint16_t, kSize> extras;  ///< scratch: the paths going on from a depth that may branch; fillAhead's sort
+    /// fillAhead: where each run of paths at a surface that share a path (their dimensions) begins in `at`.
+    std::array<std::uint16_t, kSize + 1> runs;
 };
 
 }  // namespace symphong
