@@ -87,8 +87,8 @@ std::uint64_t PathTracer::estimatorDimension(int depth, std::uint64_t path) cons
                       : SampleDimensions::vertex(depth, path) + SampleDimensions::kEstimator;
 }
 
-// shade() and continuePath() for one continuation a vertex (tracesAsWavefront): their code in their order,
-// with the continuation handed back in `w` instead of traced.
+// shade() and continuePath() for a vertex (tracesAsWavefront): their code in their order, with the continuation
+// handed back in `w` instead of traced (a branching first hit's continuations in `spawned`).
 VertexStep PathTracer::advance(WavePath& w, VertexTerms& terms, PathContext& pc, const VertexAhead& ahead, ShadowRay& shadow,
                                LightSample& light, bool& lit, std::size_t& branches, FirstHitBranch* spawned) const {
     const int depth = w.depth;
