@@ -62,6 +62,10 @@ passes)
   reference ref.exr --spp 2000 --splitting none
   "$bin" "${base[@]}" --spp 2000 --splitting none --pass-spp 7 -o p.exr >/dev/null
   cmp ref.exr p.exr || fail "2000 spp in passes of 7: the EXR differs from one pass"
+  # A branching first hit in the wavefront: its continuations' bounce rays share packets across camera samples.
+  reference ref.exr --spp 1000 --splitting none --split 2
+  "$bin" "${base[@]}" --spp 1000 --splitting none --split 2 --pass-spp 7 -o p.exr >/dev/null
+  cmp ref.exr p.exr || fail "--split 2, 1000 spp in passes of 7: the EXR differs from one pass"
   reference ref.exr --spp 24 -e symmetric --symmetric-mode spread
   "$bin" "${base[@]}" --spp 24 -e symmetric --symmetric-mode spread --pass-spp 7 -o p.exr >/dev/null
   cmp ref.exr p.exr || fail "symmetric spread mode in passes of 7: the EXR differs from one pass"
