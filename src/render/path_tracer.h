@@ -138,7 +138,8 @@ public:
     /// sample's stream) at the dimensions of SampleDimensions.
     Color cameraRadiance(const Vec3& o, const Vec3& d, SampleStream& samples, TraceStats& stats, PathScratch& scratch) const;
     /// The most camera rays cameraRadiances takes: one Embree packet (the recursive tracer), or a wavefront's
-    /// batch (tracesAsWavefront(), its camera rays traced as packets of kCameraPacket).
+    /// batch (tracesAsWavefront(), its camera rays traced as packets of kCameraPacket): as many camera samples as
+    /// leave a slot for each of their first hits' continuations (WavefrontBatch::kSize / firstHitBranches()).
     static constexpr std::size_t kCameraPacket = 16;
     std::size_t cameraBatch() const { return wavefront_ ? WavefrontBatch::kSize / firstHitBranches_ : kCameraPacket; }
     /// cameraRadiance of n <= cameraBatch() camera rays o + t dirs[k] from one origin (a pinhole camera's:

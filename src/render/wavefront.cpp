@@ -287,9 +287,14 @@ std::size_t PathTracer::takeVertices(WavefrontBatch& b, std::size_t count, std::
         PathContext pc{samples, stats, scratch};
         bool sampled = false;
         std::size_t branches = 0;
-        const std::size_t slot = b.slot[k];
-        const VertexAhead drawn{emittersAhead ? &b.emitterSamples[slot] : nullptr, b.emitterSampled[slot],
+        // What fillAhead drew, for a path at a surface below the depth limit (the others have no slot this depth,
+        // and their vertex reads nothing ahead).
+        VertexAhead drawn;
+        if (ahead && b.paths[k].found && depth < settings_.maxDepth) {
+            const std::size_t slot = b.slot[k];
+            drawn = VertexAhead{emittersAhead ? &b.emitterSamples[slot] : nullptr, b.emitterSampled[slot],
                                 directionsAhead && b.materials[slot * draws] ? &b.draws[slot * draws] : nullptr};
+        }
         const VertexStep step =
             advance(b.paths[k], terms[k], pc, drawn, b.shadowRays[lit], b.lights[lit], sampled, branches, b.spawned.data());
         if (sampled) b.lit[lit++] = static_cast<std::uint16_t>(k);
