@@ -26,6 +26,16 @@ namespace symphong {
 
 namespace {
 
+/// The estimator's calls at a vertex of this depth: --split k's k at the first hit (one for k <= 1, as
+/// firstHitDirections takes it), else one; fillAhead draws that many directions a path, from slot x calls on.
+std::size_t estimatorCalls(const TraceSettings& settings, int depth) {
+    return depth == 0 ? static_cast<std::size_t>(std::max(1, settings.firstHitSplit)) : 1;
+}
+
+/// Whether path w's vertex at this depth reads the sampler's values (fillAhead gives it a slot): at a surface,
+/// below the depth limit.
+bool readsAhead(const WavePath& w, int depth, const TraceSettings& settings) { return w.found && depth < settings.maxDepth; }
+
 /// Path k's radiance from its last vertex back to its vertex at depth `down`, as shade()'s returns add it up.
 Color radianceDownTo(const WavefrontBatch& b, std::size_t k, std::size_t down) {
     std::size_t d = static_cast<std::size_t>(b.paths[k].depth);
@@ -275,7 +285,7 @@ std::size_t PathTracer::takeVertices(WavefrontBatch& b, std::size_t count, std::
     // sample, and the directions (a first hit under --split k: its k draws from slot x k on, fillAhead).
     const bool emittersAhead = ahead && lightSampling_;
     const bool directionsAhead = ahead && estimator_.drawsAhead();
-    const std::size_t draws = depth == 0 ? static_cast<std::size_t>(settings_.firstHitSplit) : 1;
+    const std::size_t calls = estimatorCalls(settings_, depth);
     auto& terms = b.terms[static_cast<std::size_t>(depth)];
     // The paths that go on, in their order; where a first hit may branch, each one's continuations after it
     // (their rays, from one point, share packets), written to b.extras and copied back.
@@ -287,13 +297,12 @@ std::size_t PathTracer::takeVertices(WavefrontBatch& b, std::size_t count, std::
         PathContext pc{samples, stats, scratch};
         bool sampled = false;
         std::size_t branches = 0;
-        // What fillAhead drew, for a path at a surface below the depth limit (the others have no slot this depth,
-        // and their vertex reads nothing ahead).
+        // What fillAhead drew, for a path that reads ahead (the others have no slot this depth).
         VertexAhead drawn;
-        if (ahead && b.paths[k].found && depth < settings_.maxDepth) {
+        if (ahead && readsAhead(b.paths[k], depth, settings_)) {
             const std::size_t slot = b.slot[k];
             drawn = VertexAhead{emittersAhead ? &b.emitterSamples[slot] : nullptr, b.emitterSampled[slot],
-                                directionsAhead && b.materials[slot * draws] ? &b.draws[slot * draws] : nullptr};
+                                directionsAhead && b.materials[slot * calls] ? &b.draws[slot * calls] : nullptr};
         }
         const VertexStep step =
             advance(b.paths[k], terms[k], pc, drawn, b.shadowRays[lit], b.lights[lit], sampled, branches, b.spawned.data());
@@ -327,19 +336,18 @@ std::size_t PathTracer::takeVertices(WavefrontBatch& b, std::size_t count, std::
     // against the estimator's --split k calls, as shade() weighs it).
     accel_.occludedEach(b.shadowRays.data(), lit, b.blocked.data());
     stats.rays += lit;
-    const double calls = depth == 0 ? settings_.firstHitSplit : 1;
+    const double misCalls = depth == 0 ? settings_.firstHitSplit : 1;  // shade()'s value(), k as given
     for (std::size_t i = 0; i < lit; ++i)
-        if (!b.blocked[i]) terms[b.lit[i]].own += litBy(b.lights[i]).value(calls);
+        if (!b.blocked[i]) terms[b.lit[i]].own += litBy(b.lights[i]).value(misCalls);
     if (next != b.live.data()) std::copy_n(next, kept, b.live.begin());
     return kept;
 }
 
 void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t spp, int depth) const {
-    // The live paths at a surface below the depth limit: the ones whose vertex reads these dimensions.
+    // The live paths whose vertex reads these dimensions.
     std::size_t m = 0;
-    if (depth < settings_.maxDepth)
-        for (std::size_t i = 0; i < count; ++i)
-            if (b.paths[b.live[i]].found) b.at[m++] = b.live[i];
+    for (std::size_t i = 0; i < count; ++i)
+        if (readsAhead(b.paths[b.live[i]], depth, settings_)) b.at[m++] = b.live[i];
     if (m == 0) return;
     // After a branching first hit, its continuations read their own paths' dimensions: ordered by path, runs of
     // one dimension for the lanes (b.live keeps each first hit's continuations together, for Embree's packets).
@@ -374,7 +382,7 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     // The estimator's pairs. A first hit under --split k reads k, on its sub-samples i k + j of a pattern of
     // spp x k (SampleStream::split): computed where the estimator draws ahead, path i's in k slots of its own
     // (i k + j; the batch holds them: m k <= kSize / firstHitBranches() x k).
-    const std::size_t split = depth == 0 ? static_cast<std::size_t>(settings_.firstHitSplit) : 1;
+    const std::size_t split = estimatorCalls(settings_, depth);
     if (split == 1) {
         values(1, [&](std::uint64_t path) { return estimatorDimension(depth, path); });
     } else if (estimator_.drawsAhead()) {

@@ -65,10 +65,10 @@ struct FirstHitBranch {
 
 /// The wavefront's batch: up to kSize camera samples traced together, depth by depth.
 struct WavefrontBatch {
-    /// Camera samples a batch takes (render/renderer.cpp gathers them): enough that the stages' loops and the
-    /// sampler's lanes run full at the deeper depths, where few of the paths are left.
-    /// A batch's paths: its camera samples' own, then at a branching first hit (PathTracer::firstHitBranches() > 1:
-    /// then the batch takes kSize / that many camera samples) a slot for each further continuation.
+    /// Paths a batch holds: its camera samples' (render/renderer.cpp gathers them), enough that the stages' loops
+    /// and the sampler's lanes run full at the deeper depths, where few of the paths are left; where a first hit
+    /// branches (PathTracer::firstHitBranches() > 1) it takes kSize / that many camera samples, and each further
+    /// continuation takes a slot past theirs.
     static constexpr std::size_t kSize = 256;
     std::array<WavePath, kSize> paths;
     std::vector<std::array<VertexTerms, kSize>> terms;  ///< terms[d][k]: path k's vertex at depth d (grown as depths are reached)
