@@ -218,6 +218,16 @@ std::string unpackEars(const EarsSections& e, ears::Learning& l) {
     return {};
 }
 
+/// The size of the file a stream reads (its position kept): not of whatever its path names now, which
+/// another render's checkpoint renamed over it meanwhile would make one file's header and another's size.
+std::streamoff sizeOf(std::istream& in) {
+    const std::streamoff here = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(here);
+    return in ? size : -1;
+}
+
 nlohmann::json headerOf(const RenderIdentity& id, const RenderState& s) {
     return {{"scene", id.scene},
             {"scene_hash", id.sceneHash},
@@ -283,6 +293,10 @@ void writeCheckpoint(const std::string& path, const RenderIdentity& identity, co
 void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderState& state) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(fmt::format("{}: cannot open the checkpoint", path));
+    readCheckpoint(in, path, identity, state);
+}
+
+void readCheckpoint(std::istream& in, const std::string& path, RenderIdentity& identity, RenderState& state) {
     const auto damaged = [&](const std::string& why) {
         return InputError(fmt::format("{}: not a usable checkpoint ({}); delete it to start the render again", path, why));
     };
@@ -337,10 +351,8 @@ void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderSta
     }
     std::uint64_t expected = 0;
     forEachSection(state, ears, [&](void*, std::size_t n) { expected += n; });
-    const auto start = static_cast<std::uint64_t>(in.tellg());
-    std::error_code ec;
-    const std::uint64_t size = std::filesystem::file_size(path, ec);
-    if (ec || size != start + expected + sizeof(std::uint64_t))
+    const std::streamoff start = in.tellg(), size = sizeOf(in);
+    if (start < 0 || size < 0 || static_cast<std::uint64_t>(size) != static_cast<std::uint64_t>(start) + expected + sizeof(std::uint64_t))
         throw damaged(fmt::format("{} bytes where its header needs {}: truncated or overwritten", size, start + expected + 8));
     forEachSection(state, ears, [&](void* data, std::size_t n) {
         inBlocks(data, n, [&](const char* block, std::size_t size) {

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <istream>
 #include <string>
 
 namespace symphong {
@@ -39,6 +40,11 @@ void writeCheckpoint(const std::string& path, const RenderIdentity& identity, co
 /// Reads a checkpoint into `identity` and `state`. Throws InputError naming `path` when it is not a
 /// checkpoint, is damaged or truncated, or holds more than io/memory.h allows.
 void readCheckpoint(const std::string& path, RenderIdentity& identity, RenderState& state);
+
+/// readCheckpoint from a stream already open on the checkpoint (`path` names it in messages). Every byte
+/// and the size come from the file the stream opened, so a checkpoint renamed over `path` while it is read
+/// (a rank of a killed job still writing it) is not mixed with it.
+void readCheckpoint(std::istream& in, const std::string& path, RenderIdentity& identity, RenderState& state);
 
 /// Throws InputError naming `path` when the checkpoint's render differs from `now`: another scene, or
 /// the first setting that differs ("spp 1024 in the checkpoint, 4096 now").

@@ -18,7 +18,7 @@
 #   passes NP              passes of 3 spp under NP ranks: the single-process EXR byte for byte
 #   resume NP1 NP2         NP1 ranks stopped by --time with a checkpoint, resumed with NP2 ranks (1: without
 #                          mpiexec): the single-process EXR byte for byte
-#   resume-kill            kill -9 of a 2-rank job (mpiexec and its ranks, one process group) at four
+#   resume-kill            kill -9 of a 2-rank job (mpiexec and its ranks, one session) at four
 #                          pseudo-random moments, resumed with 3 ranks after each: the single-process EXR
 #   resume-sigterm         SIGTERM to mpiexec during a render of 2 ranks with a checkpoint: rank 0 writes it,
 #                          3 ranks resume it to the single-process EXR
@@ -42,6 +42,18 @@ expect_bad_input() {
   [ "$(grep -c . "$work/err")" -eq 1 ] || fail "expected one line on stderr, got: $(cat "$work/err")"
   grep -qxF "$message" "$work/err" || fail "message: $(cat "$work/err")"
   [ ! -e "$work/x.png" ] || fail "an output file was created"
+}
+
+# live_in_session SID: the processes of session SID that are not yet dead (zombies left out), from /proc.
+live_in_session() {
+  local f stat rest
+  for f in /proc/[0-9]*/stat; do
+    read -r stat <"$f" 2>/dev/null || continue
+    # After the command's ") ": state, parent, process group, session.
+    read -r -a rest <<<"${stat##*) }"
+    [ "${rest[3]}" = "$1" ] && [ "${rest[0]}" != Z ] && echo "${f//[!0-9]/}"
+  done
+  return 0
 }
 
 case $check in
@@ -214,14 +226,21 @@ resume-kill)
       sleep 0.01
     done
     sleep "0.$(printf '%03d' $((RANDOM % 400)))"
-    kill -9 -- "-$pid" 2>/dev/null || true
+    # The whole job: Open MPI starts each rank in a process group of its own, so killing mpiexec's group
+    # left the ranks running for up to a second, rank 0 renaming its checkpoint over the one that the
+    # next job was reading. Every process of the session setsid made for mpiexec, as a node that fails.
+    victims=$(live_in_session "$pid")
+    # shellcheck disable=SC2086
+    kill -9 $victims 2>/dev/null || true
     wait "$pid" 2>/dev/null || true
     # No rank of the killed job may live on (it would write the checkpoint under the next one).
     for _ in $(seq 1 100); do
-      kill -0 -- "-$pid" 2>/dev/null || break
+      [ -z "$(live_in_session "$pid")" ] && break
+      # shellcheck disable=SC2046
+      kill -9 $(live_in_session "$pid") 2>/dev/null || true
       sleep 0.05
     done
-    ! kill -0 -- "-$pid" 2>/dev/null || fail "processes of the killed job are still running"
+    [ -z "$(live_in_session "$pid")" ] || fail "processes of the killed job are still running: $(live_in_session "$pid")"
   done
   [ -e "$work/c.ckpt" ] || fail "no checkpoint was written before the kills"
   "${launch[@]}" -np 3 "$bin" "${long[@]}" --resume -o "$work/mpi.exr" >"$work/out" 2>"$work/err" || fail "resume failed: $(cat "$work/err")"
