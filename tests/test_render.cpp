@@ -359,6 +359,15 @@ TEST(Render, SplittingAndFirstBounceStreamsDoWhatTheySay) {
     const RenderResult a = renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true);
     const RenderResult b = renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, one);
     EXPECT_TRUE(sameBits(a.image, b.image));
+    // A library caller's k below 1 (the command line refuses it) is k = 1: one call, its light sample
+    // weighed against one call's pdf, in either tracer.
+    for (const int k : {0, -3})
+        for (const TracerChoice tracer : {TracerChoice::Recursive, TracerChoice::Wavefront}) {
+            TraceSettings below;
+            below.firstHitSplit = k, below.tracer = tracer;
+            EXPECT_TRUE(sameBits(a.image, renderWith(scene, accel, *phong, "sobol", 24, 4, 3, 0, true, below).image))
+                << "k = " << k << ", tracer " << static_cast<int>(tracer);
+        }
     TraceSettings noRoulette;
     noRoulette.maxDepth = 1;
     noRoulette.nextEvent = false;

@@ -68,7 +68,7 @@ std::vector<Case> cases() {
         {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 2; }},
         {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 3, rs.spp = 16; }},
         {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 2, rs.spp = 32; }},  // k x spp in the lanes
-        {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 0, rs.spp = 32; }},  // the library's k <= 1: one call
+        {"cornell", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 0, rs.spp = 32; }},  // the library's k below 1: k = 1
         {dir + "cornell-glossy-100.json", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 2, rs.trace.rrDepth = 1; }},
         {dir + "textured.json", "phong", [](RenderSettings& rs) { rs.trace.firstHitSplit = 4, rs.spp = 8; }},
         {"cornell", "symmetric", [](RenderSettings& rs) { rs.spp = 4; }},

@@ -69,6 +69,8 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel, const Estimator& 
     scene.bounds(lo, hi);
     const double extent = std::max({length(hi - lo), maxComponent(vmax(vmax(hi, -hi), vmax(lo, -lo))), 1e-3});
     epsilon_ = 1e-5 * extent;
+    // A library caller's k below 1 is one call (the command line refuses it): weighed as one everywhere.
+    settings_.firstHitSplit = std::max(1, settings_.firstHitSplit);
     textured_.reserve(scene.materials.size());
     for (const PhongMaterial& m : scene.materials) textured_.push_back(m.textures.any() ? 1 : 0);
 }

@@ -33,7 +33,7 @@ struct TraceSettings {
     bool nextEvent = true;  ///< light sampling (next-event estimation) combined by MIS
     /// First-hit splitting: the estimator is called this many times at the first hit (sub-samples j of
     /// k of the camera sample, SampleStream::split), each direction weighted 1/k and continued as a path
-    /// of its own; 1: no splitting.
+    /// of its own; 1: no splitting (and so is any value below 1).
     int firstHitSplit = 1;
     /// Which block of sampler dimensions the first hit's estimator reads: 0 is the render's own; another
     /// value gives the first-bounce directions numbers independent of the render's while every other

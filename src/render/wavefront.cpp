@@ -336,7 +336,7 @@ std::size_t PathTracer::takeVertices(WavefrontBatch& b, std::size_t count, std::
     // against the estimator's --split k calls, as shade() weighs it).
     accel_.occludedEach(b.shadowRays.data(), lit, b.blocked.data());
     stats.rays += lit;
-    const double misCalls = depth == 0 ? settings_.firstHitSplit : 1;  // shade()'s value(), k as given
+    const double misCalls = depth == 0 ? settings_.firstHitSplit : 1;  // shade()'s value(); k >= 1 (the constructor)
     for (std::size_t i = 0; i < lit; ++i)
         if (!b.blocked[i]) terms[b.lit[i]].own += litBy(b.lights[i]).value(misCalls);
     if (next != b.live.data()) std::copy_n(next, kept, b.live.begin());
