@@ -66,25 +66,29 @@ void groupByPath(const WavefrontBatch& b, const std::uint16_t* in, std::size_t c
     for (std::size_t i = 0; i < count; ++i) out[start[b.paths[in[i]].path]++] = in[i];
 }
 
+/// Where valuesAhead puts a vertex's values: one of AheadValues' two pairs (the light sample's, the
+/// estimator's), or its single value (the roulette's).
+enum class AheadSlot { LightPair = 0, EstimatorPair = 1, Single };
+
 /// The sampler's values for the paths at a surface (b.at's first b.runs[runCount]) at dimOf(their path), run by
-/// run (b.runs): into their ahead values' pair `slot`, or their single value where `slot` < 0.
+/// run (b.runs): into their ahead values' `slot`.
 template <class DimOf>
-void valuesAhead(WavefrontBatch& b, std::size_t runCount, std::uint32_t spp, int slot, DimOf dimOf) {
+void valuesAhead(WavefrontBatch& b, std::size_t runCount, std::uint32_t spp, AheadSlot slot, DimOf dimOf) {
     for (std::size_t r = 0; r < runCount; ++r) {
         const std::size_t first = b.runs[r], size = b.runs[r + 1] - first;
         const std::uint64_t dim = dimOf(b.paths[b.at[first]].path);
-        if (slot < 0)
+        if (slot == AheadSlot::Single)
             sobolSingleValues(b.atKeys.data() + first, b.atIndices.data() + first, spp, dim, size, b.us.data() + first);
         else
             sobolPairValues(b.atKeys.data() + first, b.atIndices.data() + first, spp, dim, size, b.us.data() + first, b.vs.data() + first);
         for (std::size_t i = first; i < first + size; ++i) {
             AheadValues& a = b.ahead[b.at[i]];
-            if (slot < 0) {
+            if (slot == AheadSlot::Single) {
                 a.singleDim = dim;
                 a.single = b.us[i];
             } else {
-                a.pairDims[slot] = dim;
-                a.pairs[slot] = {b.us[i], b.vs[i]};
+                a.pairDims[static_cast<int>(slot)] = dim;
+                a.pairs[static_cast<int>(slot)] = {b.us[i], b.vs[i]};
             }
         }
     }
@@ -365,10 +369,10 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     for (std::size_t i = 0; i < m; ++i)
         if (i == 0 || b.paths[b.at[i]].path != b.paths[b.at[i - 1]].path) b.runs[runCount++] = static_cast<std::uint16_t>(i);
     b.runs[runCount] = static_cast<std::uint16_t>(m);
-    const auto values = [&](int slot, auto dimOf) { valuesAhead(b, runCount, spp, slot, dimOf); };
+    const auto values = [&](AheadSlot slot, auto dimOf) { valuesAhead(b, runCount, spp, slot, dimOf); };
     // advance()'s reads at this depth, at its dimensions: the light sample, the estimator's pair, the roulette.
     if (lightSampling_) {
-        values(0, [&](std::uint64_t path) { return SampleDimensions::vertex(depth, path) + SampleDimensions::kLight; });
+        values(AheadSlot::LightPair, [&](std::uint64_t path) { return SampleDimensions::vertex(depth, path) + SampleDimensions::kLight; });
         // The emitters' samples from those pairs, at the points advance() will shade (its p: the same bits),
         // together: the untextured triangles' in vector lanes, and each sample's chain of square roots and
         // divisions overlapping the others' (docs/performance.md "The emitters' samples ahead"). A path that
@@ -384,17 +388,18 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     // (i k + j; the batch holds them: m k <= kSize / firstHitBranches() x k).
     const std::size_t split = estimatorCalls(settings_, depth);
     if (split == 1) {
-        values(1, [&](std::uint64_t path) { return estimatorDimension(depth, path); });
+        values(AheadSlot::EstimatorPair, [&](std::uint64_t path) { return estimatorDimension(depth, path); });
     } else if (estimator_.drawsAhead()) {
+        const auto k = static_cast<std::uint32_t>(split);
         for (std::size_t i = m; i-- > 0;) {  // from the last, so that each is read before the ones after it are written
             const std::uint64_t key = b.atKeys[i];
             const std::uint32_t index = b.atIndices[i];
-            for (std::size_t j = 0; j < split; ++j) {
+            for (std::uint32_t j = 0; j < k; ++j) {
                 b.atKeys[i * split + j] = key;
-                b.atIndices[i * split + j] = index * static_cast<std::uint32_t>(split) + static_cast<std::uint32_t>(j);
+                b.atIndices[i * split + j] = SampleStream::subSampleIndex(index, j, k);
             }
         }
-        sobolPairValues(b.atKeys.data(), b.atIndices.data(), spp * static_cast<std::uint32_t>(split), estimatorDimension(0, 0), m * split,
+        sobolPairValues(b.atKeys.data(), b.atIndices.data(), SampleStream::subSampleCount(spp, k), estimatorDimension(0, 0), m * split,
                         b.us.data(), b.vs.data());
     }
     // The estimator's directions from those pairs, where it draws ahead and the vertex's material is its
@@ -412,7 +417,8 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     }
     // The roulette (not for --split k's first hit: its continuations read theirs at their own paths' dimensions).
     if (depth + 1 >= settings_.rrDepth && split == 1)
-        values(-1, [&](std::uint64_t path) { return SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette; });
+        values(AheadSlot::Single,
+               [&](std::uint64_t path) { return SampleDimensions::vertex(depth + 1, path) + SampleDimensions::kRoulette; });
 }
 
 }  // namespace symphong

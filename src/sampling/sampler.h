@@ -227,11 +227,16 @@ public:
     /// stratifies them jointly), and each sub-sample's values are as uniform as a camera sample's.
     SampleStream split(std::uint32_t j, std::uint32_t k) const {
         SampleStream s = *this;
-        s.index_ = index_ * k + j;
-        s.count_ = count_ * k;
+        s.index_ = subSampleIndex(index_, j, k);
+        s.count_ = subSampleCount(count_, k);
         if (s.mode_ == kAheadMode) s.readAhead(nullptr);  // values ahead are this sample's, not a sub-sample's
         return s;
     }
+
+    /// split's numbering, for a caller that reads the sub-samples' values itself (the wavefront's lanes):
+    /// sub-sample j of k of sample `index` is sample index x k + j of a pattern of count x k.
+    static std::uint32_t subSampleIndex(std::uint32_t index, std::uint32_t j, std::uint32_t k) { return index * k + j; }
+    static std::uint32_t subSampleCount(std::uint32_t count, std::uint32_t k) { return count * k; }
 
     /// Continuation j (< kBlockSize) of this sample (--splitting ears at the first hit): sub-sample j of
     /// kBlockSize (split), except that under sobol get1D and get2D read point blockPoint(a, k, j) of the
