@@ -276,7 +276,7 @@ TEST(EstimatorDrawAhead, DrawnDirectionsAreTheSampledOnes) {
     int drawing = 0;
     for (const auto& name : estimatorNames()) {
         const auto est = makeEstimator(name);
-        if (!est->drawsAhead()) continue;
+        if (!est->drawsAhead(false)) continue;
         ++drawing;
         test::Streams streams(77);
         constexpr std::size_t kPoints = 4000;
@@ -318,5 +318,46 @@ TEST(EstimatorDrawAhead, DrawnDirectionsAreTheSampledOnes) {
         }
         EXPECT_GT(compared, kPoints * 3 / 4) << name << ": most points give a direction above the surface";
     }
-    EXPECT_GE(drawing, 1) << "phong draws ahead";
+    EXPECT_GE(drawing, 2) << "phong and symmetric-mix draw ahead";
+}
+
+// symmetric-mix's deeper vertices (ctx.branch false) are phong's: from the same stream, the same direction,
+// weight and density, bit for bit (phong, the second method, is tested on its own above and in the chi-square
+// and furnace tests); at the first hit (ctx.branch true) it does not claim to draw ahead, and returns its orbit.
+TEST(EstimatorDrawAhead, SymmetricMixDeeperVerticesArePhongs) {
+    PhongMaterial m;
+    m.rhoD = Color(0.3);
+    m.rhoS = Color(0.6);
+    m.exponent = 20;
+    const auto phong = makeEstimator("phong");
+    for (const int orbit : {2, 8}) {
+        EstimatorOptions o;
+        o.symmetricOrbit = orbit;
+        const auto mix = makeEstimator("symmetric-mix", o);
+        EXPECT_TRUE(mix->drawsAhead(false));
+        EXPECT_FALSE(mix->drawsAhead(true));
+        test::Streams streams(5);
+        std::size_t compared = 0;
+        for (int i = 0; i < 2000; ++i) {
+            const double deg = 85.0 * static_cast<double>(i % 17) / 16.0;
+            const ShadingContext deeper{sphericalDirection(std::cos(deg * kPi / 180), 0.2 * i), &m, 1 + i % 3, false};
+            SampleStream a = streams.next();
+            SampleStream b = a;
+            DirectionList fromMix, fromPhong;
+            mix->sample(deeper, a, fromMix);
+            phong->sample(deeper, b, fromPhong);
+            ASSERT_EQ(fromMix.size(), fromPhong.size()) << "point " << i;
+            for (std::size_t j = 0; j < fromMix.size(); ++j, ++compared)
+                EXPECT_TRUE(fromMix[j].wi == fromPhong[j].wi && fromMix[j].weight == fromPhong[j].weight &&
+                            fromMix[j].misPdf == fromPhong[j].misPdf)
+                    << "orbit " << orbit << " point " << i;
+            ShadingContext first = deeper;
+            first.depth = 0, first.branch = true;
+            SampleStream c = streams.next();
+            DirectionList set;
+            mix->sample(first, c, set);
+            EXPECT_LE(set.size(), static_cast<std::size_t>(orbit));
+        }
+        EXPECT_GT(compared, 1500u);
+    }
 }

@@ -59,8 +59,8 @@ Vec3 PhongLobeEstimator::placeDirection(const Vec3& wo, const DirectionDraw& d) 
 // (sampling/warp_lanes.h: the same bits), a chunk at a time. The points' chains (a division, a square root, pow
 // or the sine's polynomial) are independent of each other: the lanes take eight at once, and a loop of them the
 // processor overlaps (docs/performance.md "The estimator's directions ahead").
-void PhongLobeEstimator::drawAhead(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
-                                   DirectionDraw* out) const {
+void PhongLobeEstimator::drawDirections(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
+                                        DirectionDraw* out) {
     constexpr std::size_t kChunk = 64;
     std::array<double, kChunk> diffuseU, diffuseV;
     std::array<std::size_t, kChunk> diffuseAt;
@@ -109,7 +109,7 @@ void PhongLobeEstimator::sample(const ShadingContext& ctx, SampleStream& samples
 // pushWeighted(ctx, wi, directionPdf(ctx, wi), out) with one pow instead of two: the mixture density
 //   p = P_d cos(theta)/pi + (1 - P_d) (n+1)/(2 pi) c^n   and the BRDF   f = rho_d/pi + rho_s (n+2)/(2 pi) c^n
 // share c^n, c = cos(alpha) = r . wi (the same value phongCosAlpha gives, so the same bits as the two calls).
-void PhongLobeEstimator::weigh(const ShadingContext& ctx, const Vec3& wi, DirectionList& out) {
+void PhongLobeEstimator::weigh(const ShadingContext& ctx, const Vec3& wi, DirectionList& out, double copies) {
     if (wi.z <= 0 || ctx.wo.z <= 0) return;
     const PhongMaterial& m = *ctx.material;
     const double pd = diffuseProbability(m);
@@ -121,6 +121,7 @@ void PhongLobeEstimator::weigh(const ShadingContext& ctx, const Vec3& wi, Direct
     // exactly +0 there, without a test of c (which would be the coin toss again).
     double pdf = pd * (wi.z * kInvPi);
     if (pd < 1.0) pdf += (1.0 - pd) * ((m.exponent + 1.0) / kTwoPi * cn);
+    pdf *= copies;
     if (pdf <= 0) return;
     Color f = m.rhoD * kInvPi;
     if (m.hasSpecular()) f += m.rhoS * ((m.exponent + 2.0) / kTwoPi * cn);

@@ -47,9 +47,11 @@ public:
     std::string_view name() const override { return "phong"; }
     void sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const override;
     double misPdf(const ShadingContext& ctx, const Vec3& wi) const override;
-    bool drawsAhead() const override { return true; }
+    bool drawsAhead(bool) const override { return true; }
     void drawAhead(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
-                   DirectionDraw* out) const override;
+                   DirectionDraw* out) const override {
+        drawDirections(materials, us, vs, n, out);
+    }
     void sampleDrawn(const ShadingContext& ctx, const DirectionDraw& draw, DirectionList& out) const override {
         weigh(ctx, placeDirection(ctx.wo, draw), out);
     }
@@ -67,10 +69,13 @@ public:
     static Vec3 placeDirection(const Vec3& wo, const DirectionDraw& d);
     /// The mixture's density over the whole sphere, matching sampleDirection.
     static double directionPdf(const ShadingContext& ctx, const Vec3& wi);
-
-private:
-    /// sample()'s direction wi (from sampleDirection) with its weight and density, appended to `out`.
-    static void weigh(const ShadingContext& ctx, const Vec3& wi, DirectionList& out);
+    /// drawDirection for the n points with materials[i] (a null one's slot left as it was) from (us[i], vs[i]).
+    static void drawDirections(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
+                               DirectionDraw* out);
+    /// sample()'s direction wi (from sampleDirection) with its weight and density, appended to `out`: the same bits
+    /// as pushWeighted(ctx, wi, copies x directionPdf(ctx, wi), out) where wi.z > 0, with one pow instead of two.
+    /// `copies`: a power of two (1 for sample(); symmetric-mix's orbit of R directions), so the product is exact.
+    static void weigh(const ShadingContext& ctx, const Vec3& wi, DirectionList& out, double copies = 1.0);
 };
 
 }  // namespace symphong

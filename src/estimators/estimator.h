@@ -84,10 +84,11 @@ public:
     /// whole set at this shading point (its entries); 1 for the others.
     virtual std::uint32_t spreadSetSize(const ShadingContext&) const { return 1; }
 
-    /// Whether drawAhead and sampleDrawn are this estimator's: its single direction drawn from the material and
-    /// the first 2D value that sample() reads, before the shading point's outgoing direction is known (the
-    /// wavefront tracer draws a depth's directions together, render/wavefront.cpp).
-    virtual bool drawsAhead() const { return false; }
+    /// Whether drawAhead and sampleDrawn are this estimator's for a call with ctx.branch = `branch`: its single
+    /// direction drawn from the material and the first 2D value that sample() reads, before the shading point's
+    /// outgoing direction is known (the wavefront tracer draws a depth's directions together,
+    /// render/wavefront.cpp). An estimator whose first hit returns a set draws ahead at deeper vertices only.
+    virtual bool drawsAhead(bool /*branch*/) const { return false; }
     /// Draws ahead for the n points with materials[i] (skipping a null one) from the 2D values (us[i], vs[i]).
     virtual void drawAhead(const PhongMaterial* const*, const double*, const double*, std::size_t, DirectionDraw*) const {}
     /// sample() for a point (ctx.branch false, or an estimator that returns one direction either way) whose

@@ -82,10 +82,9 @@ double SymmetricMixEstimator::directionDensity(const ShadingContext& ctx, const 
 }
 
 void SymmetricMixEstimator::push(const ShadingContext& ctx, const Vec3& wi, double copies, DirectionList& out) const {
-    if (wi.z <= 0) return;  // a lobe direction below the surface carries no light (before its density is computed)
-    const double d = copies * directionDensity(ctx, wi);
-    if (!(d > 0)) return;
-    pushWeighted(ctx, wi, d, out);
+    // pushWeighted(ctx, wi, copies x directionDensity(ctx, wi), out)'s bits with one pow instead of two. A lobe
+    // direction below the surface carries no light (weigh returns before its density is computed).
+    PhongLobeEstimator::weigh(ctx, wi, out, copies);
 }
 
 void SymmetricMixEstimator::sample(const ShadingContext& ctx, SampleStream& samples, DirectionList& out) const {
@@ -94,8 +93,10 @@ void SymmetricMixEstimator::sample(const ShadingContext& ctx, SampleStream& samp
         // Deeper bounces: the samples of a pixel are at different places by then, so there is no orbit to
         // share (R = 1). The direction has the same density q either way; `phong`'s warps draw it at
         // less cost than the separation's maps (one concentric-disk or lobe map instead of a piece map
-        // and a rotation), so they are used here.
-        push(ctx, PhongLobeEstimator::sampleDirection(ctx, samples.get2D()), 1.0, out);
+        // and a rotation), so they are used here, and its weight with one pow (PhongLobeEstimator::weigh:
+        // push(ctx, wi, 1, out)'s bits): the vertex is `phong`'s, so that a comparison of the two
+        // estimators sees their first hits only.
+        PhongLobeEstimator::weigh(ctx, PhongLobeEstimator::sampleDirection(ctx, samples.get2D()), out);
         return;
     }
     if (mode_ == SymmetricMode::Branch) {

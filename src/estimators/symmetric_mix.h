@@ -17,6 +17,7 @@
 // sample (branch mode) or spread over R consecutive camera samples of a pixel (spread mode).
 #pragma once
 
+#include "estimators/basic.h"
 #include "estimators/estimator.h"
 #include "sampling/separation.h"
 
@@ -37,6 +38,15 @@ public:
     std::uint32_t largestSet() const override { return returnsSets() ? static_cast<std::uint32_t>(orbit_) : 1; }
     std::uint32_t spreadSetSize(const ShadingContext&) const override {
         return mode_ == SymmetricMode::Spread ? static_cast<std::uint32_t>(orbit_) : 1u;
+    }
+    /// Deeper vertices (ctx.branch false) are `phong`'s, bit for bit (sample()): drawn ahead as its are.
+    bool drawsAhead(bool branch) const override { return !branch; }
+    void drawAhead(const PhongMaterial* const* materials, const double* us, const double* vs, std::size_t n,
+                   DirectionDraw* out) const override {
+        PhongLobeEstimator::drawDirections(materials, us, vs, n, out);
+    }
+    void sampleDrawn(const ShadingContext& ctx, const DirectionDraw& draw, DirectionList& out) const override {
+        PhongLobeEstimator::weigh(ctx, PhongLobeEstimator::placeDirection(ctx.wo, draw), out);
     }
 
     /// One orbit: the canonical point p (in octant 0 of the diffuse pieces or of the lobe's wedges), the

@@ -288,7 +288,7 @@ std::size_t PathTracer::takeVertices(WavefrontBatch& b, std::size_t count, std::
     // Where the values are computed ahead, so are the emitter samples, for every path that reaches its light
     // sample, and the directions (a first hit under --split k: its k draws from slot x k on, fillAhead).
     const bool emittersAhead = ahead && lightSampling_;
-    const bool directionsAhead = ahead && estimator_.drawsAhead();
+    const bool directionsAhead = ahead && estimator_.drawsAhead(depth == 0);
     const std::size_t calls = estimatorCalls(settings_, depth);
     auto& terms = b.terms[static_cast<std::size_t>(depth)];
     // The paths that go on, in their order; where a first hit may branch, each one's continuations after it
@@ -389,7 +389,7 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     const std::size_t split = estimatorCalls(settings_, depth);
     if (split == 1) {
         values(AheadSlot::EstimatorPair, [&](std::uint64_t path) { return estimatorDimension(depth, path); });
-    } else if (estimator_.drawsAhead()) {
+    } else if (estimator_.drawsAhead(true)) {
         const auto k = static_cast<std::uint32_t>(split);
         for (std::size_t i = m; i-- > 0;) {  // from the last, so that each is read before the ones after it are written
             const std::uint64_t key = b.atKeys[i];
@@ -405,7 +405,7 @@ void PathTracer::fillAhead(WavefrontBatch& b, std::size_t count, std::uint32_t s
     // The estimator's directions from those pairs, where it draws ahead and the vertex's material is its
     // triangle's (a textured one is known only at the vertex): like the emitter samples, a loop of chains that
     // overlap (a division, a square root, pow or the sine's polynomial).
-    if (estimator_.drawsAhead()) {
+    if (estimator_.drawsAhead(depth == 0)) {
         std::size_t drawable = 0;
         for (std::size_t i = 0; i < m; ++i) {
             const std::uint32_t material = scene_.triangles[b.paths[b.at[i]].hit.prim].material;
