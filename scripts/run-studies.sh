@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the estimator studies committed under docs/study/ and the page that answers across them
-# (docs/study/report.md, with the regime map docs/study/regime-map.png), in about 21 minutes on 2 cores
+# (docs/study/report.md, with the regime map docs/study/regime-map.png), in about 14 minutes on 2 cores (21 before the throughput work of issue 33)
 # (docs/performance.md has the measured time of each run). Two sets of scenes:
 #   - the six boxes (docs/study/<name>/): the built-in Cornell box, its diffuse, glossy (n = 100, 1000) and
 #     all-glossy variants, and McGuire's glossy box; every estimator family, at 4 and 16 spp, 96x96;
