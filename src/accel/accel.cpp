@@ -217,11 +217,30 @@ bool Accel::occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) co
     return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-// One by one, not as 16-wide packets: Embree's occlusion packets (rtcOccluded16) answered a rare shadow ray
-// according to the other rays of its packet, so an image depended on how its samples were grouped (a render in
-// passes, or resumed from a checkpoint, differed from the one-pass render in round-off: 80x60 x 2000 spp).
+// Embree's occlusion packets (rtcOccluded16) answer a rare shadow ray according to the other rays of its packet
+// (its traversal goes ray by ray once few of them are active): the renderer keeps its images independent of
+// their passes by batching the same camera samples together in any pass (render/renderer.cpp, CameraPackets).
 void Accel::occludedEach(const ShadowRay* rays, std::size_t n, bool* blocked) const {
-    for (std::size_t i = 0; i < n; ++i) blocked[i] = occluded(rays[i].o, rays[i].d, 0.0, rays[i].tfar);
+    if (!packets_ || n <= kSingleRaysUpTo) {
+        for (std::size_t i = 0; i < n; ++i) blocked[i] = occluded(rays[i].o, rays[i].d, 0.0, rays[i].tfar);
+        return;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (std::size_t first = 0; first < n; first += 16) {
+        const std::size_t count = std::min<std::size_t>(16, n - first);
+        alignas(64) int valid[16];
+        alignas(64) RTCRay16 ray;
+        for (std::size_t k = 0; k < 16; ++k) {
+            valid[k] = k < count ? -1 : 0;
+            const ShadowRay& r = rays[first + std::min(k, count - 1)];  // inactive lanes repeat a valid ray
+            setLane(ray, k, r.o, r.d, 0.0, static_cast<float>(r.tfar));
+        }
+        if (log_) [[unlikely]]
+            logPacket(*log_, ray, count, true);
+        rtcOccluded16(valid, scene_, &ctx, &ray);
+        for (std::size_t k = 0; k < count; ++k) blocked[first + k] = ray.tfar[k] < 0;  // Embree sets tfar to -inf on a hit
+    }
 }
 
 std::string embreeVersion() { return RTC_VERSION_STRING; }

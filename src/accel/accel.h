@@ -70,8 +70,10 @@ public:
     /// Whether anything blocks o + t d for t in (tnear, tfar).
     bool occluded(const Vec3& o, const Vec3& d, double tnear, double tfar) const;
     /// occluded() of n shadow rays that do not share an origin (a wavefront's light samples of one depth),
-    /// t in (0, tfar): blocked[i] whether ray i is blocked. One by one: as packets (rtcOccluded16) a ray's
-    /// answer depended on the packet it was in, and so an image on how its samples were grouped into passes.
+    /// t in (0, tfar): blocked[i] whether ray i is blocked. As 16-wide packets (rtcOccluded16) where the device
+    /// supports them and n > kSingleRaysUpTo, else one by one. A packet can answer a rare ray according to the
+    /// other rays in it (as intersectEach's can): callers that promise the same image in any passes give it
+    /// the same rays together whatever the passes (the renderer's batches: render/renderer.cpp).
     void occludedEach(const ShadowRay* rays, std::size_t n, bool* blocked) const;
 
     RTCSceneTy* handle() const { return scene_; }

@@ -91,10 +91,12 @@ Color traceCameraSample(const PathTracer& tracer, const Sampler& sampler, const 
     return keptRadiance(tracer.cameraRadiance(o, d, samples, stats, scratch), stats);
 }
 
-/// A tile's camera samples gathered into batches of PathTracer::cameraBatch() camera rays (a pixel's samples in
-/// the order of their index, the pixels in the tile's order: a packet spans several pixels when a pass takes
-/// fewer samples a pixel than it holds), traced together (PathTracer::cameraRadiances), each radiance added to
-/// its pixel's sums in the order of its sample's index: the same sums as traceCameraSample of each in turn.
+/// A tile's camera samples gathered into batches of PathTracer::cameraBatch() camera rays, traced together
+/// (PathTracer::cameraRadiances), each radiance added to its pixel's sums in the order of its sample's index: the
+/// same sums as traceCameraSample of each in turn. traceSegment gives it one sample index of the tile's pixels
+/// at a time, in the tile's order, and flushes after each: a batch holds the same camera samples in any pass
+/// (Embree's packets can answer a rare ray according to the other rays in them, so the samples that share them
+/// must not depend on the passes for a render in passes to be the one-pass render bit for bit).
 class CameraPackets {
 public:
     CameraPackets(const PathTracer& tracer, const Sampler& sampler, const CameraRays& cameraRays, RenderState& state, TraceStats& stats,
@@ -164,6 +166,12 @@ private:
     std::array<int, kMost> xs_, ys_;  ///< the samples' pixels, for their rays at flush() (jitterInLanes_)
     Vec3 origin_;
     std::size_t n_ = 0;
+};
+
+/// A pixel of a tile: its coordinates and its index in the image.
+struct TilePixel {
+    int x, y;
+    std::size_t pixel;
 };
 
 /// Runs renderTile over every tile (or those settings.tiles gives out) on settings.threads threads.
@@ -252,13 +260,17 @@ void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSe
         PathScratch& scratch = scratches.local();
         std::uint64_t pixels = 0;
         CameraPackets packets(tracer, *sampler, cameraRays, state, stats, scratch);
+        std::array<TilePixel, static_cast<std::size_t>(kRenderTile * kRenderTile)> tilePixels;
         forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) {
-            for (std::uint32_t i = from; i < upTo; ++i) packets.add(x, y, pixel, i);
-            if (scratch.splitRecords.size() >= kRecordsPerFlush) learn(scratch.splitRecords);
-            if (progress) progress->fetch_add(upTo - from, std::memory_order_relaxed);
-            ++pixels;
+            tilePixels[pixels++] = TilePixel{x, y, pixel};
         });
-        packets.flush();
+        // One sample index of the tile's pixels at a time, a batch of its own (CameraPackets: the same in any pass).
+        for (std::uint32_t i = from; i < upTo; ++i) {
+            for (std::size_t k = 0; k < pixels; ++k) packets.add(tilePixels[k].x, tilePixels[k].y, tilePixels[k].pixel, i);
+            packets.flush();
+            if (scratch.splitRecords.size() >= kRecordsPerFlush) learn(scratch.splitRecords);
+            if (progress) progress->fetch_add(pixels, std::memory_order_relaxed);
+        }
         learn(scratch.splitRecords);
         state.tileSamples[static_cast<std::size_t>(tile)] = upTo;
         {

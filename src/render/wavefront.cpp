@@ -2,7 +2,7 @@
 // path_tracer.cpp; the batch's state in wavefront.h): every path of the batch takes its vertex at depth d before any
 // takes its vertex at d + 1, each vertex keeping its terms (VertexTerms) and handing on the next ray, instead of
 // shade() calling itself for the next vertex and adding on the way back; a depth's shadow rays, then its
-// continuing rays, go to Embree together (Accel::occludedEach one by one, intersectEach in 16-wide packets), and the sampler's
+// continuing rays, go to Embree together (Accel::occludedEach, intersectEach: 16-wide packets), and the sampler's
 // values of a depth's vertices are computed together in vector lanes (sobol_lanes.h), and from them the vertices'
 // light samples and estimator directions (fillAhead: lanes too, where they run). The same decisions at the
 // same sample dimensions as the recursive tracer, so the same paths, and each path's terms summed at its end from
