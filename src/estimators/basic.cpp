@@ -29,7 +29,10 @@ void CosineEstimator::sample(const ShadingContext& ctx, SampleStream& samples, D
 double CosineEstimator::misPdf(const ShadingContext&, const Vec3& wi) const { return cosineHemispherePdf(wi); }
 
 double PhongLobeEstimator::diffuseProbability(const PhongMaterial& m) {
-    const double d = luminance(m.rhoD), s = m.hasSpecular() ? luminance(m.rhoS) : 0.0;
+    // Without a specular part, 1 without the division: d / (d + 0) is exactly 1 for d > 0, and 1 is the answer
+    // for d = 0 too (the division's latency sat under every diffuse vertex's weight and densities).
+    if (!m.hasSpecular()) return 1.0;
+    const double d = luminance(m.rhoD), s = luminance(m.rhoS);
     return d + s > 0 ? d / (d + s) : 1.0;
 }
 
