@@ -168,12 +168,6 @@ private:
     std::size_t n_ = 0;
 };
 
-/// A pixel of a tile: its coordinates and its index in the image.
-struct TilePixel {
-    int x, y;
-    std::size_t pixel;
-};
-
 /// Runs renderTile over every tile (or those settings.tiles gives out) on settings.threads threads.
 template <class Fn>
 void forEachTile(const RenderSettings& settings, Fn&& renderTile) {
@@ -258,15 +252,13 @@ void traceSegment(PathTracer& tracer, const Estimator& estimator, const RenderSe
         if (from >= upTo) return;
         TraceStats stats;
         PathScratch& scratch = scratches.local();
-        std::uint64_t pixels = 0;
+        int x0, y0, x1, y1;
+        tileRect(tile, settings.width, settings.height, x0, y0, x1, y1);
+        const auto pixels = static_cast<std::uint64_t>(x1 - x0) * static_cast<std::uint64_t>(y1 - y0);
         CameraPackets packets(tracer, *sampler, cameraRays, state, stats, scratch);
-        std::array<TilePixel, static_cast<std::size_t>(kRenderTile * kRenderTile)> tilePixels;
-        forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) {
-            tilePixels[pixels++] = TilePixel{x, y, pixel};
-        });
         // One sample index of the tile's pixels at a time, a batch of its own (CameraPackets: the same in any pass).
         for (std::uint32_t i = from; i < upTo; ++i) {
-            for (std::size_t k = 0; k < pixels; ++k) packets.add(tilePixels[k].x, tilePixels[k].y, tilePixels[k].pixel, i);
+            forEachTilePixel(tile, settings.width, settings.height, [&](int x, int y, std::size_t pixel) { packets.add(x, y, pixel, i); });
             packets.flush();
             if (scratch.splitRecords.size() >= kRecordsPerFlush) learn(scratch.splitRecords);
             if (progress) progress->fetch_add(pixels, std::memory_order_relaxed);
